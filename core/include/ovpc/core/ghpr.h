@@ -1,0 +1,58 @@
+// General hidden point removal (GHPR, Katz & Tal 2015) and the free-space mesh from the hull.
+#pragma once
+
+#include <string>
+
+#include "ovpc/core/free_space_mesh.h"
+#include "ovpc/core/types.h"
+
+namespace ovpc {
+
+enum class GhprKernel {
+  kExponential,  ///< f(d) = d^gamma, gamma < 0 (paper: -0.03)
+  kLinear,       ///< f(d) = gamma - d, gamma > max d (gamma = 2R is spherical flipping)
+};
+
+struct GhprConfig {
+  GhprKernel kernel = GhprKernel::kExponential;
+  double gamma = -0.03;
+  /// @throws std::invalid_argument if gamma has the wrong sign for the kernel or is not finite.
+  void Validate() const;
+};
+
+const char* KernelName(GhprKernel kernel);
+/// Parses "exponential" or "linear". @throws std::invalid_argument otherwise.
+GhprKernel ParseKernel(const std::string& name);
+
+/// Outcome of GHPR on one cloud. Expected data problems are statuses, not exceptions, so a closed
+/// loop survives a bad frame.
+enum class GhprStatus {
+  kOk,
+  kTooFewPoints,   ///< fewer than 4 points
+  kDegenerate,     ///< all points and the viewpoint lie in one plane (or line): no volume
+  kGammaTooSmall,  ///< linear kernel with gamma <= the largest distance to the viewpoint
+};
+const char* StatusName(GhprStatus status);
+
+struct GhprResult {
+  GhprStatus status = GhprStatus::kTooFewPoints;
+  std::string message;           ///< human-readable reason when status != kOk
+  FreeSpaceMesh mesh;            ///< faces not yet classified (face_traversable empty)
+  bool viewpoint_on_hull = false;
+  double transform_ms = 0.0;     ///< wall time of the image transform
+  double hull_ms = 0.0;          ///< wall time of the convex hull
+  double mesh_ms = 0.0;          ///< wall time of carrying the hull back to the points
+};
+
+/// Runs GHPR on `points` seen from `viewpoint`: maps every point p (relative to the viewpoint,
+/// d = |p|) to p/d * f(d), adds the origin, takes the 3D convex hull with exact predicates (CGAL)
+/// and keeps the hull vertices other than the origin as the visible set. The hull connectivity,
+/// carried back to the original points, is the free-space mesh (see FreeSpaceMesh for orientation
+/// and the treatment of the viewpoint).
+///
+/// @pre every point is finite and farther than a few micrometres from the viewpoint (the mapper
+///      drops the others and counts them).
+/// @throws std::invalid_argument for an invalid config or a point that breaks the precondition.
+GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const GhprConfig& config);
+
+}  // namespace ovpc

@@ -1,0 +1,92 @@
+// The point cloud buffer: the first stage of the OVPC pipeline (paper, "Point cloud buffer").
+// Aligns the last N scans by local odometry, crops, voxel-filters (>= 2 hits per voxel) and
+// subsamples them into one cloud centred on the current sensor position.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+
+#include "ovpc/core/types.h"
+
+namespace ovpc {
+
+/// One LiDAR scan: points in the sensor frame S, and the pose of S in the gravity-aligned local
+/// odometry frame O at the scan time.
+struct Scan {
+  Points points_S;
+  Eigen::Isometry3d T_O_S = Eigen::Isometry3d::Identity();
+  double time_s = 0.0;
+};
+
+/// Counters of what each filter removed; all counts are points.
+struct BufferStats {
+  std::size_t input = 0;          ///< points in the buffered scans
+  std::size_t non_finite = 0;     ///< NaN/inf points dropped
+  std::size_t out_of_range = 0;   ///< dropped by the crop radius
+  std::size_t voxel_sparse = 0;   ///< dropped in voxels with fewer than min_hits points
+  std::size_t voxels_kept = 0;    ///< voxels that passed the hit filter
+  std::size_t subsampled_out = 0; ///< dropped to meet max_points
+  std::size_t output = 0;         ///< points in the result
+};
+
+/// Voxel filter: one point (the centroid of its hits) per voxel that holds at least `min_hits`
+/// points. Output order is deterministic (sorted by voxel key). `voxel_size_m <= 0` returns the
+/// input unchanged. Non-finite points must have been removed before.
+Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats = nullptr);
+
+/// Deterministic subsampling to at most `max_points`: keeps the points with the smallest value of a
+/// seeded hash of their index, so the kept set is spread uniformly over the input and does not depend
+/// on the platform's random number generator. Relative order is preserved.
+Points Subsample(const Points& points, std::size_t max_points, std::uint64_t seed,
+                 BufferStats* stats = nullptr);
+
+class PointCloudBuffer {
+ public:
+  struct Config {
+    int max_scans = 25;           ///< scans kept (paper: 20-30)
+    double crop_radius_m = 25.0;  ///< points farther from the current sensor are dropped
+    double voxel_size_m = 0.1;    ///< voxel filter edge length; <= 0 disables the filter
+    int min_hits = 2;             ///< voxels with fewer points are outliers (paper: 2)
+    std::size_t max_points = 14000;  ///< subsampling target (paper: 6,000-14,000 result points)
+    std::uint64_t seed = 1;       ///< seed of the subsampling hash
+
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
+
+  /// A merged cloud in the local frame L: origin at the newest sensor position, axes of the
+  /// gravity-aligned odometry frame O (so z is up and the viewpoint is the origin).
+  struct LocalCloud {
+    Points points_L;
+    Eigen::Isometry3d T_O_L = Eigen::Isometry3d::Identity();
+    double time_s = 0.0;
+    BufferStats stats;
+  };
+
+  PointCloudBuffer() : PointCloudBuffer(Config{}) {}
+  /// @throws std::invalid_argument if the config is invalid.
+  explicit PointCloudBuffer(const Config& config);
+
+  /// Adds a scan, dropping the oldest beyond `max_scans`. Non-finite points are dropped (and
+  /// counted in the next Build()).
+  /// @throws std::invalid_argument if the pose is not finite.
+  void Push(Scan scan);
+
+  /// Merges the buffered scans. Returns an empty cloud when no scan was pushed.
+  LocalCloud Build() const;
+
+  std::size_t num_scans() const { return scans_.size(); }
+  void Clear() { scans_.clear(); }
+  const Config& config() const { return config_; }
+
+ private:
+  struct Stored {
+    Scan scan;
+    std::size_t non_finite = 0;
+  };
+  Config config_;
+  std::deque<Stored> scans_;
+};
+
+}  // namespace ovpc
