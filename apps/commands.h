@@ -1,0 +1,29 @@
+// Subcommands of the `ovpc` command line. Each Register* adds a subcommand to the app and returns
+// the function that runs it after parsing (returning the process exit code).
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace ovpc::apps {
+
+/// Exit codes shared by all subcommands.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;   ///< the job ran but failed (or could not write its output)
+inline constexpr int kExitBadInput = 2;  ///< bad arguments or input data
+
+/// Bad input given by the user: printed as one line, exit code 2.
+class BadInput : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+using Runner = std::function<int()>;
+
+Runner RegisterMesh(CLI::App& app);
+Runner RegisterSynth(CLI::App& app);
+
+}  // namespace ovpc::apps

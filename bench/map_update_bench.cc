@@ -1,0 +1,609 @@
+// Map-update benchmark: the OVPC update against a plain GHPR hull (CGAL convex_hull_3 on all
+// points) and OctoMap insertPointCloud at 0.1, 0.2 and 0.3 m, on the same generated clouds.
+//
+// Clouds: ovpc::synth::MakeOutdoorCloud(size, seed + i) for i < kCloudsPerSize: a VLP-16 tilted
+// 45 deg on a base spinning at 0.5 Hz, 1.88 m above an outdoor scene (20 deg ramp to a plateau,
+// carport roof on posts, poles, trees), 25 scans buffered into one cloud with the viewpoint at the
+// origin. Every method sees exactly the same clouds: repetition r uses cloud r % kCloudsPerSize.
+//
+// Timing: std::chrono::steady_clock around the measured call only, the same way for every method.
+// Input conversion to a library's own point type (octomap::Pointcloud), the construction of empty
+// result objects and the destruction of results happen outside the timed region. The GHPR image
+// transform is part of the plain hull path (as it is part of the OVPC update). Each (method,
+// size) gets one untimed warm-up run first; a case that would take more than kCaseBudget_s at
+// the requested reps gets fewer (the report prints the reps used). Everything runs on one thread.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
+#include <CGAL/version.h>
+#include <octomap/octomap.h>
+
+#include "ovpc/core/ovpc_mapper.h"
+#include "ovpc/core/synthetic_scene.h"
+
+namespace ovpc::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point_3 = Kernel::Point_3;
+using HullMesh = CGAL::Surface_mesh<Point_3>;
+
+constexpr int kDefaultReps = 30;
+constexpr int kQuickReps = 3;
+constexpr int kCloudsPerSize = 5;
+/// Slow cases (OctoMap at 0.1 m traces every ray through ~10 voxels per metre) get fewer reps:
+/// as many as the warm-up run's time says fit into this budget, but at least kMinReps.
+constexpr double kCaseBudget_s = 30.0;
+constexpr int kMinReps = 3;
+constexpr double kOctomapResolutions_m[] = {0.1, 0.2, 0.3};
+
+double MsSince(Clock::time_point start, Clock::time_point stop) {
+  return std::chrono::duration<double, std::milli>(stop - start).count();
+}
+
+// --- Command line ------------------------------------------------------------------------------
+
+struct Options {
+  int reps = kDefaultReps;
+  std::vector<std::size_t> sizes = {6000, 10000, 14000, 50000};
+  std::uint64_t seed = 1;
+  std::string csv_path;
+  std::string json_path;
+  bool quick = false;
+};
+
+void PrintUsage(std::ostream& out) {
+  out << "usage: ovpc_bench [--reps N] [--sizes 6000,10000,14000,50000] [--seed S]\n"
+         "                  [--csv FILE] [--json FILE] [--quick] [--help]\n"
+         "  --reps N     timed repetitions per (method, size), default "
+      << kDefaultReps
+      << "; a case whose warm-up run says\n"
+         "               N reps would take over "
+      << kCaseBudget_s << " s gets fewer (at least " << kMinReps << ")\n"
+         "  --sizes L    comma-separated cloud sizes in points\n"
+         "  --seed S     first cloud seed; clouds S .. S+"
+      << kCloudsPerSize - 1
+      << " are cycled through the reps\n"
+         "  --csv FILE   write one row per (method or OVPC stage, size)\n"
+         "  --json FILE  write the same as JSON\n"
+         "  --quick      smoke test: "
+      << kQuickReps << " reps, sizes 6000 and 14000 (explicit --reps/--sizes win)\n";
+}
+
+bool ParseUnsigned(const std::string& text, std::uint64_t* value) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return false;
+  try {
+    *value = std::stoull(text);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
+bool ParseSizes(const std::string& text, std::vector<std::size_t>* sizes) {
+  sizes->clear();
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    std::uint64_t value = 0;
+    if (!ParseUnsigned(item, &value) || value < 4 || value > 10000000) return false;
+    sizes->push_back(static_cast<std::size_t>(value));
+  }
+  return !sizes->empty() && text.back() != ',';
+}
+
+/// Returns 0 on success, -1 after --help, 2 on bad arguments (usage printed).
+int ParseArgs(int argc, char** argv, Options* options) {
+  bool reps_given = false;
+  bool sizes_given = false;
+  auto bad = [](const std::string& why) {
+    std::cerr << "ovpc_bench: " << why << "\n";
+    PrintUsage(std::cerr);
+    return 2;
+  };
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    std::string value;
+    bool has_inline_value = false;
+    const std::size_t eq = arg.find('=');
+    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+      has_inline_value = true;
+    }
+    auto next_value = [&](std::string* out) {
+      if (has_inline_value) {
+        *out = value;
+        return true;
+      }
+      if (i + 1 >= argc) return false;
+      *out = argv[++i];
+      return true;
+    };
+    if (arg == "--help" || arg == "-h") {
+      PrintUsage(std::cout);
+      return -1;
+    } else if (arg == "--quick" && !has_inline_value) {
+      options->quick = true;
+    } else if (arg == "--reps") {
+      std::uint64_t reps = 0;
+      if (!next_value(&value) || !ParseUnsigned(value, &reps) || reps < 1 || reps > 100000) {
+        return bad("--reps needs a whole number from 1 to 100000");
+      }
+      options->reps = static_cast<int>(reps);
+      reps_given = true;
+    } else if (arg == "--sizes") {
+      if (!next_value(&value) || !ParseSizes(value, &options->sizes)) {
+        return bad("--sizes needs a comma-separated list of point counts (each >= 4)");
+      }
+      sizes_given = true;
+    } else if (arg == "--seed") {
+      std::uint64_t seed = 0;
+      if (!next_value(&value) || !ParseUnsigned(value, &seed)) {
+        return bad("--seed needs a non-negative whole number");
+      }
+      options->seed = seed;
+    } else if (arg == "--csv") {
+      if (!next_value(&options->csv_path) || options->csv_path.empty()) {
+        return bad("--csv needs a file name");
+      }
+    } else if (arg == "--json") {
+      if (!next_value(&options->json_path) || options->json_path.empty()) {
+        return bad("--json needs a file name");
+      }
+    } else {
+      return bad("unknown argument '" + std::string(argv[i]) + "'");
+    }
+  }
+  if (options->quick) {
+    if (!reps_given) options->reps = kQuickReps;
+    if (!sizes_given) options->sizes = {6000, 14000};
+  }
+  return 0;
+}
+
+// --- Statistics --------------------------------------------------------------------------------
+
+struct Stats {
+  int reps = 0;
+  double median_ms = 0.0;
+  double p90_ms = 0.0;
+  double p99_ms = 0.0;
+  double mean_ms = 0.0;
+  double sd_ms = 0.0;  ///< sample standard deviation (0 for one sample)
+  double min_ms = 0.0;
+  double max_ms = 0.0;
+};
+
+/// Percentile by linear interpolation between the closest ranks (the "R-7" definition): with few
+/// samples p99 is close to the maximum.
+double Percentile(const std::vector<double>& sorted, double p) {
+  const double h = p * static_cast<double>(sorted.size() - 1);
+  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
+  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
+Stats ComputeStats(std::vector<double> samples_ms) {
+  Stats s;
+  if (samples_ms.empty()) return s;
+  std::sort(samples_ms.begin(), samples_ms.end());
+  const double n = static_cast<double>(samples_ms.size());
+  s.reps = static_cast<int>(samples_ms.size());
+  s.median_ms = Percentile(samples_ms, 0.5);
+  s.p90_ms = Percentile(samples_ms, 0.9);
+  s.p99_ms = Percentile(samples_ms, 0.99);
+  s.min_ms = samples_ms.front();
+  s.max_ms = samples_ms.back();
+  double sum = 0.0;
+  for (const double x : samples_ms) sum += x;
+  s.mean_ms = sum / n;
+  double sum_sq = 0.0;
+  for (const double x : samples_ms) sum_sq += (x - s.mean_ms) * (x - s.mean_ms);
+  s.sd_ms = samples_ms.size() > 1 ? std::sqrt(sum_sq / (n - 1.0)) : 0.0;
+  return s;
+}
+
+// --- The measured methods ----------------------------------------------------------------------
+
+/// One timed run: the milliseconds of the measured call and a size of its result, for a sanity
+/// column (visible points, hull vertices, octree nodes).
+struct Run {
+  double ms = 0.0;
+  std::size_t output = 0;
+};
+
+struct OvpcRun {
+  Run run;
+  StageTimings timings;
+  bool ok = false;
+  std::string status;
+};
+
+OvpcRun RunOvpc(const OvpcMapper& mapper, const Points& points) {
+  const Clock::time_point start = Clock::now();
+  const OvpcMap map = mapper.Update(points, Vec3::Zero());
+  const Clock::time_point stop = Clock::now();
+  OvpcRun result;
+  result.run = {MsSince(start, stop), map.mesh.num_visible()};
+  result.timings = map.timings;
+  result.ok = map.ok();
+  result.status = map.ok() ? "ok" : std::string(StatusName(map.status)) + ": " + map.message;
+  return result;
+}
+
+/// The plain reference path: GHPR image p |p|^(gamma - 1) of every point, plus the origin, into
+/// CGAL's convex_hull_3. Returns the number of hull vertices.
+std::size_t GhprHull(const Points& points, double gamma, HullMesh* hull) {
+  std::vector<Point_3> images;
+  images.reserve(points.size() + 1);
+  for (const Vec3& p : points) {
+    const double d = p.norm();
+    if (!(d > 0.0)) continue;  // a point at the viewpoint has no image
+    const double scale = std::pow(d, gamma - 1.0);
+    images.emplace_back(p.x() * scale, p.y() * scale, p.z() * scale);
+  }
+  images.emplace_back(0.0, 0.0, 0.0);
+  CGAL::convex_hull_3(images.begin(), images.end(), *hull);
+  return hull->number_of_vertices();
+}
+
+Run RunPlainHull(const Points& points, double gamma) {
+  auto hull = std::make_unique<HullMesh>();
+  const Clock::time_point start = Clock::now();
+  const std::size_t num_vertices = GhprHull(points, gamma, hull.get());
+  const Clock::time_point stop = Clock::now();
+  return {MsSince(start, stop), num_vertices};
+}
+
+Run RunOctomap(const octomap::Pointcloud& cloud, double resolution_m) {
+  auto tree = std::make_unique<octomap::OcTree>(resolution_m);
+  const Clock::time_point start = Clock::now();
+  tree->insertPointCloud(cloud, octomap::point3d(0.0f, 0.0f, 0.0f));
+  const Clock::time_point stop = Clock::now();
+  return {MsSince(start, stop), tree->size()};
+}
+
+octomap::Pointcloud ToOctomap(const Points& points) {
+  octomap::Pointcloud cloud;
+  cloud.reserve(points.size());
+  for (const Vec3& p : points) {
+    cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                    static_cast<float>(p.z()));
+  }
+  return cloud;
+}
+
+// --- Results -----------------------------------------------------------------------------------
+
+struct Row {
+  std::size_t size = 0;
+  std::string method;  ///< "ovpc", "cgal_hull", "octomap_0.1", ... or "ovpc.<stage>"
+  bool is_stage = false;
+  Stats stats;
+  double ratio = 0.0;        ///< median / median of the OVPC update (wall clock) at this size
+  std::size_t output = 0;    ///< result size on the first cloud (see Run::output)
+  std::string output_what;   ///< what `output` counts
+};
+
+std::string OctomapName(double resolution_m) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "octomap_%.1f", resolution_m);
+  return buffer;
+}
+
+std::string MachineName() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const std::size_t colon = line.find(':');
+      if (colon != std::string::npos) {
+        std::string name = line.substr(colon + 1);
+        name.erase(0, name.find_first_not_of(" \t"));
+        return name;
+      }
+    }
+  }
+  return "unknown";
+}
+
+std::string BuildType() {
+#if defined(OVPC_BUILD_TYPE)
+  const std::string cmake_type = OVPC_BUILD_TYPE;
+#else
+  const std::string cmake_type;
+#endif
+#if defined(__OPTIMIZE__) && defined(NDEBUG)
+  const std::string flags = "optimised, NDEBUG";
+#elif defined(__OPTIMIZE__)
+  const std::string flags = "optimised, assertions on";
+#else
+  const std::string flags = "unoptimised, assertions on: timings are not meaningful";
+#endif
+  return cmake_type.empty() ? flags : cmake_type + " (" + flags + ")";
+}
+
+std::string JsonEscape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\u%04x", static_cast<unsigned>(c));
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+/// CSV fields are simple names and numbers; quote a field only if it needs it.
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+bool WriteCsv(const std::string& path, const std::vector<Row>& rows) {
+  std::ofstream out(path);
+  if (!out) return false;
+  out << "size,method,kind,reps,median_ms,p90_ms,p99_ms,mean_ms,sd_ms,min_ms,max_ms,"
+         "ratio_to_ovpc,output,output_what\n";
+  char buffer[512];
+  for (const Row& r : rows) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "%zu,%s,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%zu,", r.size,
+                  CsvField(r.method).c_str(), r.is_stage ? "stage" : "method", r.stats.reps,
+                  r.stats.median_ms, r.stats.p90_ms, r.stats.p99_ms, r.stats.mean_ms,
+                  r.stats.sd_ms, r.stats.min_ms, r.stats.max_ms, r.ratio, r.output);
+    out << buffer << CsvField(r.output_what) << "\n";
+  }
+  return static_cast<bool>(out);
+}
+
+bool WriteJson(const std::string& path, const Options& options, const std::string& machine,
+               const std::string& build, const std::vector<Row>& rows) {
+  std::ofstream out(path);
+  if (!out) return false;
+  out << "{\n  \"machine\": \"" << JsonEscape(machine) << "\",\n"
+      << "  \"build\": \"" << JsonEscape(build) << "\",\n"
+      << "  \"cgal_version\": \"" << CGAL_VERSION_STR << "\",\n"
+      << "  \"seed\": " << options.seed << ",\n"
+      << "  \"clouds_per_size\": " << kCloudsPerSize << ",\n"
+      << "  \"reps\": " << options.reps << ",\n"
+      << "  \"results\": [\n";
+  char buffer[640];
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    std::snprintf(buffer, sizeof(buffer),
+                  "    {\"size\": %zu, \"method\": \"%s\", \"kind\": \"%s\", \"reps\": %d, "
+                  "\"median_ms\": %.6f, \"p90_ms\": %.6f, \"p99_ms\": %.6f, \"mean_ms\": %.6f, "
+                  "\"sd_ms\": %.6f, \"min_ms\": %.6f, \"max_ms\": %.6f, \"ratio_to_ovpc\": %.6f, "
+                  "\"output\": %zu, \"output_what\": \"%s\"}%s\n",
+                  r.size, JsonEscape(r.method).c_str(), r.is_stage ? "stage" : "method",
+                  r.stats.reps, r.stats.median_ms, r.stats.p90_ms, r.stats.p99_ms,
+                  r.stats.mean_ms, r.stats.sd_ms, r.stats.min_ms, r.stats.max_ms, r.ratio,
+                  r.output, JsonEscape(r.output_what).c_str(), i + 1 < rows.size() ? "," : "");
+    out << buffer;
+  }
+  out << "  ]\n}\n";
+  return static_cast<bool>(out);
+}
+
+// --- Driver ------------------------------------------------------------------------------------
+
+/// Runs `measure` once untimed on cloud 0, then up to `max_reps` times cycling through the clouds
+/// (fewer when the warm-up run says they would exceed kCaseBudget_s; at least kMinReps).
+std::vector<Run> Repeat(int max_reps, const std::function<Run(int cloud)>& measure) {
+  const double warm_up_ms = measure(0).ms;
+  int reps = max_reps;
+  if (warm_up_ms * max_reps > kCaseBudget_s * 1000.0) {
+    reps = std::max(kMinReps, static_cast<int>(kCaseBudget_s * 1000.0 / warm_up_ms));
+    reps = std::min(reps, max_reps);
+  }
+  std::vector<Run> runs;
+  runs.reserve(static_cast<std::size_t>(reps));
+  for (int r = 0; r < reps; ++r) runs.push_back(measure(r % kCloudsPerSize));
+  return runs;
+}
+
+std::vector<double> Millis(const std::vector<Run>& runs) {
+  std::vector<double> ms;
+  ms.reserve(runs.size());
+  for (const Run& run : runs) ms.push_back(run.ms);
+  return ms;
+}
+
+void ReportProgress(std::size_t size, const std::string& method, const Stats& stats) {
+  std::fprintf(stderr, "[%6zu] %-14s %3d reps  median %9.2f ms\n", size, method.c_str(),
+               stats.reps, stats.median_ms);
+}
+
+int Main(int argc, char** argv) {
+  Options options;
+  const int parse = ParseArgs(argc, argv, &options);
+  if (parse == -1) return 0;
+  if (parse != 0) return parse;
+
+  const std::string machine = MachineName();
+  const std::string build = BuildType();
+  const OvpcMapper mapper;
+  const double gamma = mapper.config().ghpr.gamma;
+  const Clock::time_point bench_start = Clock::now();
+
+  std::vector<Row> rows;
+  int ovpc_failures = 0;
+  std::string first_failure;
+  for (const std::size_t size : options.sizes) {
+    std::fprintf(stderr, "[%6zu] generating %d clouds (seeds %llu..%llu)\n", size, kCloudsPerSize,
+                 static_cast<unsigned long long>(options.seed),
+                 static_cast<unsigned long long>(options.seed + kCloudsPerSize - 1));
+    std::vector<Points> clouds;
+    std::vector<octomap::Pointcloud> octo_clouds;
+    for (int i = 0; i < kCloudsPerSize; ++i) {
+      clouds.push_back(synth::MakeOutdoorCloud(size, options.seed + static_cast<std::uint64_t>(i)));
+      octo_clouds.push_back(ToOctomap(clouds.back()));
+      if (clouds.back().size() != size) {
+        std::fprintf(stderr, "[%6zu] note: cloud %d has %zu points\n", size, i,
+                     clouds.back().size());
+      }
+    }
+
+    // OVPC update: the wall clock of Update(), and its own per-stage timings.
+    std::vector<OvpcRun> ovpc_results;
+    const std::vector<Run> ovpc_runs = Repeat(options.reps, [&](int cloud) {
+      ovpc_results.push_back(RunOvpc(mapper, clouds[cloud]));
+      return ovpc_results.back().run;
+    });
+    ovpc_results.erase(ovpc_results.begin());  // the warm-up run
+    for (const OvpcRun& result : ovpc_results) {
+      if (result.ok) continue;
+      ++ovpc_failures;
+      if (first_failure.empty()) first_failure = result.status;
+    }
+    Row ovpc_row{size, "ovpc", false, ComputeStats(Millis(ovpc_runs)), 1.0,
+                 ovpc_runs.front().output, "visible points"};
+    const double ovpc_median_ms = ovpc_row.stats.median_ms;
+    ReportProgress(size, "ovpc", ovpc_row.stats);
+    rows.push_back(ovpc_row);
+
+    const std::vector<std::pair<std::string, double StageTimings::*>> stages = {
+        {"sanitize", &StageTimings::sanitize_ms},
+        {"hull", &StageTimings::hull_ms},
+        {"mesh", &StageTimings::mesh_ms},
+        {"traversability", &StageTimings::traversability_ms},
+        {"vertex_cloud", &StageTimings::vertex_cloud_ms},
+        {"total", &StageTimings::total_ms}};
+    for (const auto& [name, member] : stages) {
+      std::vector<double> ms;
+      for (const OvpcRun& result : ovpc_results) ms.push_back(result.timings.*member);
+      Row row{size, "ovpc." + name, true, ComputeStats(ms), 0.0, 0, ""};
+      row.ratio = ovpc_median_ms > 0.0 ? row.stats.median_ms / ovpc_median_ms : 0.0;
+      rows.push_back(row);
+    }
+
+    auto add_method = [&](const std::string& name, const std::string& output_what,
+                          const std::function<Run(int)>& measure) {
+      const std::vector<Run> runs = Repeat(options.reps, measure);
+      Row row{size, name, false, ComputeStats(Millis(runs)), 0.0, runs.front().output,
+              output_what};
+      row.ratio = ovpc_median_ms > 0.0 ? row.stats.median_ms / ovpc_median_ms : 0.0;
+      ReportProgress(size, name, row.stats);
+      rows.push_back(row);
+    };
+    add_method("cgal_hull", "hull vertices",
+               [&](int cloud) { return RunPlainHull(clouds[cloud], gamma); });
+    for (const double res_m : kOctomapResolutions_m) {
+      add_method(OctomapName(res_m), "octree nodes",
+                 [&](int cloud) { return RunOctomap(octo_clouds[cloud], res_m); });
+    }
+  }
+  const double bench_s = MsSince(bench_start, Clock::now()) / 1000.0;
+
+  // --- Report ---
+  std::printf("OVPC map update benchmark\n");
+  std::printf("machine: %s\n", machine.c_str());
+  std::printf("build:   %s; %s; CGAL %s; OctoMap (liboctomap) single-threaded\n", build.c_str(),
+              __VERSION__, CGAL_VERSION_STR);
+  std::printf("clouds:  %d per size, MakeOutdoorCloud(size, seed %llu..%llu), cycled through the "
+              "reps; viewpoint at the origin\n",
+              kCloudsPerSize, static_cast<unsigned long long>(options.seed),
+              static_cast<unsigned long long>(options.seed + kCloudsPerSize - 1));
+  std::printf("timing:  steady_clock around the measured call; 1 untimed warm-up per case; "
+              "reps %d (fewer if over %.0f s per case); ratio = median / OVPC median\n",
+              options.reps, kCaseBudget_s);
+  std::printf("methods: ovpc = OvpcMapper::Update (gamma %.3g); cgal_hull = GHPR transform + "
+              "CGAL convex_hull_3 on all points;\n"
+              "         octomap_R = fresh OcTree(R), insertPointCloud from the origin, no max "
+              "range\n\n",
+              gamma);
+  std::printf("%7s  %-12s %5s %10s %10s %10s %10s %9s  %-14s %s\n", "size", "method", "reps",
+              "median_ms", "p90_ms", "p99_ms", "mean_ms", "sd_ms", "vs OVPC", "output");
+  std::size_t last_size = 0;
+  for (const Row& r : rows) {
+    if (r.is_stage) continue;
+    if (r.size != last_size && last_size != 0) std::printf("\n");
+    last_size = r.size;
+    char ratio[32];
+    std::snprintf(ratio, sizeof(ratio), "%.2fx", r.ratio);
+    std::printf("%7zu  %-12s %5d %10.3f %10.3f %10.3f %10.3f %9.3f  %-14s %zu %s\n", r.size,
+                r.method.c_str(), r.stats.reps, r.stats.median_ms, r.stats.p90_ms,
+                r.stats.p99_ms, r.stats.mean_ms, r.stats.sd_ms, ratio, r.output,
+                r.output_what.c_str());
+  }
+
+  std::printf("\nOVPC stage medians, ms (share of the OVPC median wall clock):\n");
+  std::printf("%7s %16s %16s %16s %16s %16s %16s\n", "size", "sanitize", "hull", "mesh",
+              "traversability", "vertex_cloud", "total(internal)");
+  for (const std::size_t size : options.sizes) {
+    std::printf("%7zu", size);
+    for (const Row& r : rows) {
+      if (r.size != size || !r.is_stage) continue;
+      char cell[40];
+      std::snprintf(cell, sizeof(cell), "%.3f (%.0f%%)", r.stats.median_ms, 100.0 * r.ratio);
+      std::printf(" %16s", cell);
+    }
+    std::printf("\n");
+  }
+
+  std::printf("\nSummary (median vs OVPC median):\n");
+  for (const std::size_t size : options.sizes) {
+    std::printf("%7zu:", size);
+    for (const Row& r : rows) {
+      if (r.size != size || r.is_stage || r.method == "ovpc") continue;
+      std::printf("  %s = %.2fx OVPC", r.method.c_str(), r.ratio);
+    }
+    std::printf("\n");
+  }
+  if (ovpc_failures > 0) {
+    std::printf("\nWARNING: %d OVPC updates did not return ok (first: %s)\n", ovpc_failures,
+                first_failure.c_str());
+  }
+  std::printf("\nbenchmark wall time %.1f s\n", bench_s);
+
+  int exit_code = 0;
+  if (!options.csv_path.empty()) {
+    if (WriteCsv(options.csv_path, rows)) {
+      std::fprintf(stderr, "wrote %s\n", options.csv_path.c_str());
+    } else {
+      std::fprintf(stderr, "ovpc_bench: cannot write %s\n", options.csv_path.c_str());
+      exit_code = 1;
+    }
+  }
+  if (!options.json_path.empty()) {
+    if (WriteJson(options.json_path, options, machine, build, rows)) {
+      std::fprintf(stderr, "wrote %s\n", options.json_path.c_str());
+    } else {
+      std::fprintf(stderr, "ovpc_bench: cannot write %s\n", options.json_path.c_str());
+      exit_code = 1;
+    }
+  }
+  return exit_code;
+}
+
+}  // namespace
+}  // namespace ovpc::bench
+
+int main(int argc, char** argv) { return ovpc::bench::Main(argc, argv); }

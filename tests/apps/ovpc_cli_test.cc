@@ -1,0 +1,164 @@
+// End-to-end tests of the `ovpc` command line: exit codes, messages and output files.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "../support/test_clouds.h"
+#include "ovpc/core/cloud_io.h"
+#include "ovpc/core/synthetic_scene.h"
+
+namespace ovpc {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ovpc_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  RunResult Run(const std::string& args) const {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(OVPC_CLI_PATH) + " " + args + " >" + out.string() + " 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = ReadAll(out);
+    r.err = ReadAll(err);
+    return r;
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  void WriteText(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+
+  fs::path dir_;
+};
+
+int CountLines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+TEST_F(CliTest, MeshesAGeneratedCloudAndWritesEveryOutput) {
+  Points cloud = synth::MakeOutdoorCloud(6000, 2);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  cloud.emplace_back(nan, 1.0, 1.0);
+  cloud.emplace_back(0.0, 0.0, 0.0);  // at the viewpoint
+  WriteCloudPly(Path("cloud.ply"), cloud);
+  const RunResult r = Run("mesh " + Path("cloud.ply") + " --viewpoint 0,0,0 --out " + Path("mesh.ply") +
+                          " --points " + Path("points.ply") + " --json " + Path("stats.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("watertight         yes"), std::string::npos) << r.out;
+  const auto stats = nlohmann::json::parse(ReadAll(Path("stats.json")));
+  EXPECT_EQ(stats["input_points"], 6002);
+  EXPECT_EQ(stats["dropped_non_finite"], 1);
+  EXPECT_EQ(stats["dropped_at_viewpoint"], 1);
+  EXPECT_EQ(stats["points_after_filtering"], 6000);
+  EXPECT_EQ(stats["watertight"], true);
+  EXPECT_GT(stats["visible_points"].get<int>(), 1000);
+  EXPECT_LT(stats["visible_points"].get<int>(), 6000);
+  EXPECT_GT(stats["traversable_face_fraction"].get<double>(), 0.1);
+  EXPECT_GT(stats["ms"]["total"].get<double>(), 0.0);
+  // The outputs open as PLY again: the vertex cloud has one point per visible point.
+  EXPECT_EQ(ReadCloud(Path("points.ply")).size(), stats["visible_points"].get<std::size_t>());
+  EXPECT_GE(ReadCloud(Path("mesh.ply")).size(), stats["visible_points"].get<std::size_t>());
+}
+
+TEST_F(CliTest, BufferStageDropsSingleHitVoxels) {
+  Points cloud = testing::Grid(-4.975, 4.975, -4.975, 4.975, 0.0, 0.05);  // 4 hits per 0.1 m voxel
+  cloud.emplace_back(3.33, 3.33, 1.77);                    // lone outlier
+  WriteCloudPly(Path("cloud.ply"), cloud);
+  const RunResult r = Run("mesh " + Path("cloud.ply") + " --viewpoint 0,0,1.88 --voxel 0.1 --min-hits 2 --json " +
+                          Path("stats.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto stats = nlohmann::json::parse(ReadAll(Path("stats.json")));
+  EXPECT_EQ(stats["buffer"]["dropped_sparse_voxels"], 1);
+  EXPECT_EQ(stats["points_after_filtering"], stats["buffer"]["voxels_kept"]);
+}
+
+TEST_F(CliTest, LinearKernelRuns) {
+  WriteCloudPly(Path("room.ply"), testing::BoxRoom(Vec3(3, 2, 1.5), 0.5));
+  const RunResult r = Run("mesh " + Path("room.ply") + " --viewpoint 0.3,-0.2,0.1 --kernel linear -q");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST_F(CliTest, BadInputGivesOneLineAndExitCode2) {
+  WriteCloudPly(Path("three.ply"), {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
+  WriteCloudPly(Path("plane.ply"), testing::Grid(-2, 2, -2, 2, 0.0, 0.5));
+  WriteCloudPly(Path("room.ply"), testing::BoxRoom(Vec3(3, 2, 1.5), 0.5));
+  WriteText("garbage.ply", "this is not a ply file\n");
+  WriteText("cloud.obj", "v 1 2 3\n");
+  WriteText("short.xyz", "1 2 3\n4 5\n");
+  const std::string missing = Path("does_not_exist.pcd");
+  struct Case {
+    std::string args;
+    std::string expect;  // a piece of the message
+  } cases[] = {
+      {"mesh " + missing + " --viewpoint 0,0,0", "does_not_exist.pcd"},
+      {"mesh " + Path("cloud.obj") + " --viewpoint 0,0,0", "format"},
+      {"mesh " + Path("garbage.ply") + " --viewpoint 0,0,0", "garbage.ply"},
+      {"mesh " + Path("short.xyz") + " --viewpoint 0,0,0", "short.xyz"},
+      {"mesh " + Path("three.ply") + " --viewpoint 0,0,0", "at least 4"},
+      {"mesh " + Path("plane.ply") + " --viewpoint 0,0,0", "plane"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --gamma 0.5", "gamma"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --kernel linear --gamma -1", "gamma"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --kernel linear --gamma 2", "gamma"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0", "--viewpoint"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --kernel cubic", "kernel"},
+      {"mesh " + Path("room.ply"), "viewpoint"},
+      {"fly", "fly"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const RunResult r = Run(c.args);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(CountLines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(CliTest, HelpDescribesDroppedPoints) {
+  const RunResult r = Run("mesh --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("NaN/inf"), std::string::npos);
+  EXPECT_NE(r.out.find("--viewpoint"), std::string::npos);
+}
+
+TEST_F(CliTest, BundledSampleCloudMeshes) {
+  const std::string sample = std::string(OVPC_SOURCE_DIR) + "/apps/samples/outdoor_14k.ply";
+  const RunResult r = Run("mesh " + sample + " --viewpoint 0,0,0 -q --json " + Path("stats.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto stats = nlohmann::json::parse(ReadAll(Path("stats.json")));
+  EXPECT_EQ(stats["input_points"], 14000);
+  EXPECT_EQ(stats["watertight"], true);
+}
+
+}  // namespace
+}  // namespace ovpc

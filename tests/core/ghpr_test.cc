@@ -1,0 +1,190 @@
+#include "ovpc/core/ghpr.h"
+
+#include <algorithm>
+#include <random>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "../support/test_clouds.h"
+
+namespace ovpc {
+namespace {
+
+std::vector<int> VisibleSources(const GhprResult& r) {
+  std::vector<int> v;
+  for (int s : r.mesh.source_index) {
+    if (s >= 0) v.push_back(s);
+  }
+  return v;
+}
+
+TEST(GhprTest, BoxRoomSeenFromInsideIsFullyVisibleWatertightAndEnclosesTheRoom) {
+  const Vec3 half(3.0, 2.0, 1.5);  // 6 x 4 x 3 m = 72 m^3
+  const Points room = testing::BoxRoom(half, 0.5);
+  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), GhprConfig{});
+  ASSERT_EQ(r.status, GhprStatus::kOk) << r.message;
+  EXPECT_FALSE(r.viewpoint_on_hull);
+  EXPECT_EQ(r.mesh.num_visible(), room.size());
+  const MeshTopology topo = CheckTopology(r.mesh.triangles);
+  EXPECT_TRUE(topo.watertight()) << "chi=" << topo.euler_characteristic;
+  EXPECT_EQ(topo.num_vertices, room.size());
+  // The only cut is along the room's edges between neighbouring grid points.
+  EXPECT_NEAR(EnclosedVolume(r.mesh.vertices, r.mesh.triangles), 72.0, 0.72);
+}
+
+TEST(GhprTest, DenseRoomWithSmallGammaKeepsEveryPointAndTheExactVolume) {
+  const Points room = testing::BoxRoom(Vec3(3.0, 2.0, 1.5), 0.1);
+  GhprConfig config;
+  config.gamma = -0.001;
+  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), config);
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  EXPECT_EQ(r.mesh.num_visible(), room.size());
+  EXPECT_TRUE(CheckTopology(r.mesh.triangles).watertight());
+  EXPECT_NEAR(EnclosedVolume(r.mesh.vertices, r.mesh.triangles), 72.0, 1e-6);
+}
+
+TEST(GhprTest, DenseRoomWithPaperGammaHidesOnlyPointsNearConcaveEdges) {
+  // With gamma = -0.03 a concave room edge becomes a shallow dent in image space; neighbours closer
+  // than about 2|gamma| rad to the edge bridge it. Everything hidden must be near an edge.
+  const Vec3 half(3.0, 2.0, 1.5);
+  const Points room = testing::BoxRoom(half, 0.1);
+  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), GhprConfig{});
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  std::vector<char> visible(room.size(), 0);
+  for (int s : VisibleSources(r)) visible[s] = 1;
+  int hidden = 0;
+  for (std::size_t i = 0; i < room.size(); ++i) {
+    if (visible[i]) continue;
+    ++hidden;
+    const Vec3 gap = half - room[i].cwiseAbs();
+    std::vector<double> g = {gap.x(), gap.y(), gap.z()};
+    std::sort(g.begin(), g.end());
+    EXPECT_LT(g[1], 0.45) << "hidden point far from any room edge: " << room[i].transpose();
+  }
+  EXPECT_GT(hidden, 0);
+  EXPECT_TRUE(CheckTopology(r.mesh.triangles).watertight());
+}
+
+TEST(GhprTest, WallHidesTheObjectBehindIt) {
+  Points pts;
+  for (double y = -3.0; y <= 3.0 + 1e-9; y += 0.2) {
+    for (double z = -1.5; z <= 2.0 + 1e-9; z += 0.2) pts.emplace_back(5.0, y, z);
+  }
+  const std::size_t wall_end = pts.size();
+  for (double y = -0.5; y <= 0.5 + 1e-9; y += 0.1) {
+    for (double z = -0.5; z <= 0.5 + 1e-9; z += 0.1) {
+      pts.emplace_back(7.0, y, z);  // face of a cube behind the wall
+      pts.emplace_back(7.0 + (y + 0.5), y, 0.5);  // its top
+    }
+  }
+  const GhprResult r = ComputeGhpr(pts, Vec3::Zero(), GhprConfig{});
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  EXPECT_TRUE(r.viewpoint_on_hull);  // nothing behind the viewpoint
+  std::size_t wall_visible = 0;
+  for (int s : VisibleSources(r)) {
+    EXPECT_LT(static_cast<std::size_t>(s), wall_end) << "object point " << pts[s].transpose() << " seen through the wall";
+    wall_visible += static_cast<std::size_t>(s) < wall_end;
+  }
+  EXPECT_EQ(wall_visible, wall_end);
+  EXPECT_TRUE(CheckTopology(r.mesh.triangles).watertight());
+  EXPECT_GT(EnclosedVolume(r.mesh.vertices, r.mesh.triangles), 0.0);
+}
+
+TEST(GhprTest, ExponentialKernelIsScaleInvariant) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  Points pts(2000);
+  for (Vec3& p : pts) p = Vec3(u(rng), u(rng), u(rng));
+  Points scaled = pts;
+  for (Vec3& p : scaled) p *= 4.0;
+  const GhprResult a = ComputeGhpr(pts, Vec3::Zero(), GhprConfig{});
+  const GhprResult b = ComputeGhpr(scaled, Vec3::Zero(), GhprConfig{});
+  ASSERT_EQ(a.status, GhprStatus::kOk);
+  ASSERT_EQ(b.status, GhprStatus::kOk);
+  EXPECT_EQ(VisibleSources(a), VisibleSources(b));
+}
+
+TEST(GhprTest, LinearKernelGivesAWatertightMeshAndChecksGamma) {
+  const Points room = testing::BoxRoom(Vec3(3.0, 2.0, 1.5), 0.25);
+  GhprConfig config;
+  config.kernel = GhprKernel::kLinear;
+  config.gamma = 100.0;
+  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), config);
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  EXPECT_TRUE(CheckTopology(r.mesh.triangles).watertight());
+  EXPECT_GT(EnclosedVolume(r.mesh.vertices, r.mesh.triangles), 60.0);
+
+  config.gamma = 2.0;  // smaller than the farthest corner (about 4 m)
+  EXPECT_EQ(ComputeGhpr(room, Vec3::Zero(), config).status, GhprStatus::kGammaTooSmall);
+}
+
+TEST(GhprTest, GammaOfTheWrongSignIsRejected) {
+  const Points room = testing::BoxRoom(Vec3(1, 1, 1), 0.5);
+  GhprConfig config;
+  config.gamma = 0.03;
+  EXPECT_THROW(ComputeGhpr(room, Vec3::Zero(), config), std::invalid_argument);
+  config.kernel = GhprKernel::kLinear;
+  config.gamma = -5.0;
+  EXPECT_THROW(ComputeGhpr(room, Vec3::Zero(), config), std::invalid_argument);
+  EXPECT_THROW(ParseKernel("cubic"), std::invalid_argument);
+  EXPECT_EQ(ParseKernel("linear"), GhprKernel::kLinear);
+}
+
+TEST(GhprTest, TooFewAndDegenerateCloudsGiveAStatus) {
+  EXPECT_EQ(ComputeGhpr({Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}, Vec3::Zero(), {}).status,
+            GhprStatus::kTooFewPoints);
+  // Coplanar with the viewpoint: no volume.
+  const Points plane = testing::Grid(-2, 2, -2, 2, 0.0, 0.5);
+  EXPECT_EQ(ComputeGhpr(plane, Vec3(0.1, 0.2, 0.0), {}).status, GhprStatus::kDegenerate);
+  Points line;
+  for (int i = 1; i < 10; ++i) line.emplace_back(i, 2.0 * i, 0.5 * i);
+  EXPECT_EQ(ComputeGhpr(line, Vec3::Zero(), {}).status, GhprStatus::kDegenerate);
+  // The same plane seen from above is the normal case of flat ground.
+  const GhprResult ground = ComputeGhpr(plane, Vec3(0.1, 0.2, 1.88), {});
+  ASSERT_EQ(ground.status, GhprStatus::kOk);
+  EXPECT_TRUE(ground.viewpoint_on_hull);
+  EXPECT_TRUE(CheckTopology(ground.mesh.triangles).watertight());
+}
+
+TEST(GhprTest, PointsAtTheViewpointBreakThePrecondition) {
+  Points pts = testing::BoxRoom(Vec3(1, 1, 1), 0.5);
+  pts.push_back(Vec3::Zero());
+  EXPECT_THROW(ComputeGhpr(pts, Vec3::Zero(), {}), std::invalid_argument);
+}
+
+TEST(GhprTest, DuplicatesAndCoplanarGroupsStayWatertight) {
+  Points pts = testing::BoxRoom(Vec3(2, 2, 1), 0.5);
+  const std::size_t n = pts.size();
+  for (std::size_t i = 0; i < n; i += 3) pts.push_back(pts[i]);  // exact duplicates
+  const GhprResult r = ComputeGhpr(pts, Vec3(0.1, 0.05, -0.2), {});
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  EXPECT_TRUE(CheckTopology(r.mesh.triangles).watertight());
+  // A duplicate pair is one hull vertex.
+  EXPECT_LE(r.mesh.num_visible(), n);
+}
+
+TEST(GhprTest, GroundFacesPointUpIntoFreeSpace) {
+  const Points ground = testing::Grid(-5, 5, -5, 5, 0.0, 0.5);
+  const GhprResult r = ComputeGhpr(ground, Vec3(0.0, 0.0, 1.88), {});
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  int up = 0, observed = 0;
+  for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) {
+    if (r.mesh.TouchesViewpoint(f)) continue;
+    const auto& t = r.mesh.triangles[f];
+    const Vec3 n = (r.mesh.vertices[t[1]] - r.mesh.vertices[t[0]]).cross(r.mesh.vertices[t[2]] - r.mesh.vertices[t[0]]);
+    if (n.squaredNorm() == 0.0) {
+      // Collinear grid points on the rim: the hull facet through the viewpoint and a grid edge line
+      // is triangulated among the line's own points. Such faces exist only on the border.
+      for (int v : t) EXPECT_DOUBLE_EQ(r.mesh.vertices[v].head<2>().cwiseAbs().maxCoeff(), 5.0);
+      continue;
+    }
+    ++observed;
+    up += n.z() > 0.0;
+  }
+  EXPECT_GT(observed, 300);
+  EXPECT_EQ(up, observed);
+}
+
+}  // namespace
+}  // namespace ovpc

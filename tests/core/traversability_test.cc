@@ -1,0 +1,113 @@
+#include "ovpc/core/traversability.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "../support/test_clouds.h"
+#include "ovpc/core/ovpc_mapper.h"
+
+namespace ovpc {
+namespace {
+
+// One triangle whose normal (a->b->c, right hand) is tilted by `angle_rad` from up about the y axis.
+FreeSpaceMesh TiltedTriangle(double angle_rad, double size_m) {
+  FreeSpaceMesh mesh;
+  const Vec3 u(std::cos(angle_rad), 0.0, -std::sin(angle_rad));  // downhill along +x
+  const Vec3 v(0.0, 1.0, 0.0);
+  mesh.vertices = {Vec3::Zero(), size_m * u, size_m * v};
+  mesh.source_index = {0, 1, 2};
+  mesh.triangles = {{0, 1, 2}};
+  return mesh;
+}
+
+TEST(TraversabilityTest, SurfaceAngleJustBelowAndAbove30Degrees) {
+  TraversabilityConfig config;
+  config.delta_h_max_m = 100.0;  // isolate the angle test
+  for (double deg : {0.0, 10.0, 29.9}) {
+    FreeSpaceMesh mesh = TiltedTriangle(DegToRad(deg), 1.0);
+    ClassifyFaces(config, &mesh);
+    EXPECT_NEAR(RadToDeg(std::acos(mesh.face_normals[0].z())), deg, 1e-9);
+    EXPECT_EQ(mesh.face_traversable[0], 1) << deg << " deg";
+  }
+  for (double deg : {30.1, 45.0, 89.0, 120.0, 180.0}) {
+    FreeSpaceMesh mesh = TiltedTriangle(DegToRad(deg), 1.0);
+    ClassifyFaces(config, &mesh);
+    EXPECT_EQ(mesh.face_traversable[0], 0) << deg << " deg";
+  }
+}
+
+TEST(TraversabilityTest, HeightSpreadJustBelowAndAbove25Centimetres) {
+  TraversabilityConfig config;
+  // A 3 m triangle tilted so that its vertices span the given height: under 5 deg, far from 30.
+  auto spread_mesh = [](double spread_m) {
+    return TiltedTriangle(std::asin(spread_m / 3.0), 3.0);
+  };
+  for (double spread : {0.10, 0.249}) {
+    FreeSpaceMesh mesh = spread_mesh(spread);
+    ClassifyFaces(config, &mesh);
+    EXPECT_EQ(mesh.face_traversable[0], 1) << spread;
+  }
+  for (double spread : {0.251, 0.40}) {
+    FreeSpaceMesh mesh = spread_mesh(spread);
+    ClassifyFaces(config, &mesh);
+    EXPECT_EQ(mesh.face_traversable[0], 0) << spread;
+  }
+}
+
+TEST(TraversabilityTest, DegenerateAndViewpointFacesAreNotTraversable) {
+  TraversabilityConfig config;
+  FreeSpaceMesh mesh;
+  mesh.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)};
+  mesh.triangles = {{0, 1, 2}, {0, 1, 3}};
+  mesh.viewpoint_vertex = 3;
+  ClassifyFaces(config, &mesh);
+  EXPECT_EQ(mesh.face_traversable[0], 0);  // zero area
+  EXPECT_EQ(mesh.face_normals[0], Vec3::Zero());
+  EXPECT_EQ(mesh.face_traversable[1], 0);  // touches the viewpoint
+}
+
+TEST(TraversabilityTest, ConfigIsValidated) {
+  TraversabilityConfig config;
+  config.alpha_max_rad = 0.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = TraversabilityConfig{};
+  config.delta_h_max_m = -1.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = TraversabilityConfig{};
+  config.up = Vec3(0, 0, 2);
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+}
+
+TEST(TraversabilityTest, RoofIsNotTraversableAndTheGroundUnderItIs) {
+  // Ground 24 x 24 m, a 5 x 5 m roof slab underside at 2.5 m next to the sensor at 1.88 m.
+  Points pts = testing::Grid(-12, 12, -12, 12, 0.0, 0.25);
+  const std::size_t ground_end = pts.size();
+  const Points roof = testing::Grid(1.0, 6.0, -2.5, 2.5, 2.5, 0.25);
+  pts.insert(pts.end(), roof.begin(), roof.end());
+  const OvpcMap map = OvpcMapper().Update(pts, Vec3(0.0, 0.0, 1.88));
+  ASSERT_TRUE(map.ok()) << map.message;
+  EXPECT_TRUE(CheckTopology(map.mesh.triangles).watertight());
+
+  int roof_vertices = 0, roof_traversable = 0, under = 0, under_traversable = 0;
+  for (std::size_t i = 0; i < map.cloud.size(); ++i) {
+    const Vec3& p = map.cloud.points()[i];
+    const bool trav = map.cloud.traversable()[i] != 0;
+    if (static_cast<std::size_t>(map.mesh.source_index[i]) >= ground_end) {
+      ++roof_vertices;
+      roof_traversable += trav;
+      EXPECT_LT(map.cloud.normals()[i].z(), 0.0) << "roof normal must point down into free space";
+    } else if (p.x() > 1.75 && p.x() < 5.25 && std::abs(p.y()) < 1.75) {
+      ++under;
+      under_traversable += trav;
+    }
+  }
+  EXPECT_GT(roof_vertices, 100);
+  EXPECT_EQ(roof_traversable, 0);
+  ASSERT_GT(under, 100);
+  EXPECT_GT(under_traversable, 0.9 * under) << under_traversable << " of " << under;
+}
+
+}  // namespace
+}  // namespace ovpc
