@@ -18,8 +18,9 @@ double MsSince(Clock::time_point start) {
 void OvpcMapper::Config::Validate() const {
   ghpr.Validate();
   traversability.Validate();
-  if (!(min_range_m > 0.0) || !std::isfinite(min_range_m)) {
-    throw std::invalid_argument("OvpcMapper::Config: min_range_m must be > 0");
+  // ComputeGhpr rejects points within a few micrometres of the viewpoint; the mapper must drop them.
+  if (!(min_range_m >= 1e-5) || !std::isfinite(min_range_m)) {
+    throw std::invalid_argument("OvpcMapper::Config: min_range_m must be >= 1e-5 m");
   }
 }
 

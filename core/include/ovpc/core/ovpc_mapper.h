@@ -43,7 +43,7 @@ class OvpcMapper {
   struct Config {
     GhprConfig ghpr;
     TraversabilityConfig traversability;
-    double min_range_m = 1e-3;  ///< points closer to the viewpoint are dropped as "at the viewpoint"
+    double min_range_m = 1e-3;  ///< points closer to the viewpoint are dropped as "at the viewpoint" (>= 1e-5)
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
