@@ -491,6 +491,7 @@ int Main(int argc, char** argv) {
 
     const std::vector<std::pair<std::string, double StageTimings::*>> stages = {
         {"sanitize", &StageTimings::sanitize_ms},
+        {"transform", &StageTimings::transform_ms},
         {"hull", &StageTimings::hull_ms},
         {"mesh", &StageTimings::mesh_ms},
         {"traversability", &StageTimings::traversability_ms},
@@ -555,8 +556,8 @@ int Main(int argc, char** argv) {
   }
 
   std::printf("\nOVPC stage medians, ms (share of the OVPC median wall clock):\n");
-  std::printf("%7s %16s %16s %16s %16s %16s %16s\n", "size", "sanitize", "hull", "mesh",
-              "traversability", "vertex_cloud", "total(internal)");
+  std::printf("%7s %16s %16s %16s %16s %16s %16s %16s\n", "size", "sanitize", "transform", "hull",
+              "mesh", "traversability", "vertex_cloud", "total(internal)");
   for (const std::size_t size : options.sizes) {
     std::printf("%7zu", size);
     for (const Row& r : rows) {
