@@ -13,6 +13,8 @@
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/property_map.h>
 
+#include "incremental_hull.h"
+
 namespace ovpc {
 namespace {
 
@@ -28,20 +30,58 @@ double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+Point3 ToCgal(const Vec3& p) { return Point3(p.x(), p.y(), p.z()); }
+
 // Finds four image points (the origin among them) that span a volume, with exact predicates.
-bool SpansVolume(const std::vector<Point3>& images) {
-  const Point3& p0 = images.back();  // the viewpoint (origin)
+bool SpansVolume(const Points& images) {
+  const Point3 p0 = ToCgal(images.back());  // the viewpoint (origin)
   std::size_t i1 = 0;
-  while (i1 < images.size() && images[i1] == p0) ++i1;
+  while (i1 < images.size() && ToCgal(images[i1]) == p0) ++i1;
   if (i1 >= images.size()) return false;
+  const Point3 p1 = ToCgal(images[i1]);
   std::size_t i2 = 0;
-  while (i2 < images.size() && CGAL::collinear(p0, images[i1], images[i2])) ++i2;
+  while (i2 < images.size() && CGAL::collinear(p0, p1, ToCgal(images[i2]))) ++i2;
   if (i2 >= images.size()) return false;
-  for (const Point3& p : images) {
-    if (!CGAL::coplanar(p0, images[i1], images[i2], p)) return true;
+  const Point3 p2 = ToCgal(images[i2]);
+  for (const Vec3& p : images) {
+    if (!CGAL::coplanar(p0, p1, p2, ToCgal(p))) return true;
   }
   return false;
 }
+
+// The reference path: CGAL's quickhull over point indices (exact predicates), outputs as in
+// internal::IncrementalHull (ascending vertex indices, outward faces as point indices).
+void CgalHull(const Points& images, std::vector<int>* vertices, std::vector<std::array<int, 3>>* faces) {
+  std::vector<Point3> pts;
+  pts.reserve(images.size());
+  for (const Vec3& p : images) pts.push_back(ToCgal(p));
+  using PointMap = CGAL::Pointer_property_map<Point3>::const_type;
+  using Traits = CGAL::Extreme_points_traits_adapter_3<PointMap, CGAL::Convex_hull_traits_3<Kernel>>;
+  std::vector<std::size_t> order(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) order[i] = i;
+  std::vector<std::size_t> hull_vertices;              // point indices
+  std::vector<std::array<std::size_t, 3>> hull_faces;  // indices into hull_vertices
+  const Traits traits(CGAL::make_property_map(static_cast<const std::vector<Point3>&>(pts)));
+  CGAL::convex_hull_3<std::vector<std::size_t>::const_iterator, void, std::vector<std::size_t>,
+                      std::vector<std::array<std::size_t, 3>>, Traits>(order.cbegin(), order.cend(), hull_vertices,
+                                                                       hull_faces, traits);
+  faces->clear();
+  for (const auto& f : hull_faces) {
+    faces->push_back({static_cast<int>(hull_vertices[f[0]]), static_cast<int>(hull_vertices[f[1]]),
+                      static_cast<int>(hull_vertices[f[2]])});
+  }
+  vertices->assign(hull_vertices.begin(), hull_vertices.end());
+  std::sort(vertices->begin(), vertices->end());
+}
+
+// Per-thread buffers reused across calls.
+struct Scratch {
+  Points images;
+  internal::HullWorkspace hull;
+  std::vector<int> hull_vertices;
+  std::vector<std::array<int, 3>> hull_faces;
+  std::vector<int> mesh_index;
+};
 
 }  // namespace
 
@@ -91,16 +131,24 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const GhprCo
 
   auto t = Clock::now();
   // Image set: F(p) = p / d * f(d) with p relative to the viewpoint; the viewpoint (origin) last.
-  std::vector<double> dist(n);
+  // Buffers live per thread and are reused, so a steady stream of clouds allocates nothing new.
+  thread_local Scratch scratch;
+  Points& images = scratch.images;
+  images.resize(n + 1);
   double max_d = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!points[i].allFinite()) throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is not finite");
-    dist[i] = (points[i] - viewpoint).norm();
-    if (!(dist[i] >= kMinDistanceM)) {
+    const Vec3 rel = points[i] - viewpoint;
+    const double d = rel.norm();
+    if (!(d >= kMinDistanceM)) {
       throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is at the viewpoint");
     }
-    max_d = std::max(max_d, dist[i]);
+    max_d = std::max(max_d, d);
+    const double scale = config.kernel == GhprKernel::kExponential ? std::pow(d, config.gamma - 1.0)
+                                                                   : (config.gamma - d) / d;
+    images[i] = rel * scale;
   }
+  images[n] = Vec3::Zero();
   if (config.kernel == GhprKernel::kLinear && !(config.gamma > max_d)) {
     std::ostringstream msg;
     msg << "linear kernel needs gamma > the farthest point's distance (" << max_d << " m), got "
@@ -109,50 +157,40 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const GhprCo
     result.message = msg.str();
     return result;
   }
-  std::vector<Point3> images(n + 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 rel = points[i] - viewpoint;
-    const double scale = config.kernel == GhprKernel::kExponential
-                             ? std::pow(dist[i], config.gamma - 1.0)
-                             : (config.gamma - dist[i]) / dist[i];
-    images[i] = Point3(rel.x() * scale, rel.y() * scale, rel.z() * scale);
-  }
-  images[n] = Point3(0.0, 0.0, 0.0);
-
   result.transform_ms = MsSince(t);
-  if (!SpansVolume(images)) {
-    result.status = GhprStatus::kDegenerate;
-    result.message = "all points lie in one plane with the viewpoint: the hull has no volume";
-    return result;
-  }
 
   t = Clock::now();
-  // Convex hull over indices, so that hull vertices come back as indices into the image set.
-  using PointMap = CGAL::Pointer_property_map<Point3>::const_type;
-  using Traits = CGAL::Extreme_points_traits_adapter_3<PointMap, CGAL::Convex_hull_traits_3<Kernel>>;
-  std::vector<std::size_t> order(n + 1);
-  for (std::size_t i = 0; i <= n; ++i) order[i] = i;
-  std::vector<std::size_t> hull_vertices;            // image indices
-  std::vector<std::array<std::size_t, 3>> hull_faces;  // indices into hull_vertices
-  const Traits traits(CGAL::make_property_map(static_cast<const std::vector<Point3>&>(images)));
-  CGAL::convex_hull_3<std::vector<std::size_t>::const_iterator, void, std::vector<std::size_t>,
-                      std::vector<std::array<std::size_t, 3>>, Traits>(
-      order.cbegin(), order.cend(), hull_vertices, hull_faces, traits);
+  std::vector<int>& hull_vertices = scratch.hull_vertices;         // image indices, ascending
+  std::vector<std::array<int, 3>>& hull_faces = scratch.hull_faces;  // image indices, outward
+  const bool fast = !config.reference_hull &&
+                    internal::IncrementalHull(images, &scratch.hull, &hull_vertices, &hull_faces) ==
+                        internal::HullStatus::kOk;
+  if (!fast) {
+    // Degenerate input (coplanar or duplicate image points) or asked for: CGAL's quickhull decides.
+    if (!SpansVolume(images)) {
+      result.status = GhprStatus::kDegenerate;
+      result.message = "all points lie in one plane with the viewpoint: the hull has no volume";
+      return result;
+    }
+    CgalHull(images, &hull_vertices, &hull_faces);
+    result.used_reference_hull = true;
+  }
   result.hull_ms = MsSince(t);
   t = Clock::now();
 
   // Mesh vertices: the visible points in ascending input order, then the viewpoint if on the hull.
-  std::vector<std::size_t> sorted = hull_vertices;
-  std::sort(sorted.begin(), sorted.end());
-  std::vector<int> mesh_index_of_image(n + 1, -1);
+  std::vector<int>& mesh_index_of_image = scratch.mesh_index;
+  mesh_index_of_image.assign(n + 1, -1);
   FreeSpaceMesh& mesh = result.mesh;
-  for (std::size_t image : sorted) {
-    if (image == n) continue;
+  mesh.vertices.reserve(hull_vertices.size());
+  mesh.source_index.reserve(hull_vertices.size());
+  for (int image : hull_vertices) {
+    if (image == static_cast<int>(n)) continue;
     mesh_index_of_image[image] = static_cast<int>(mesh.vertices.size());
     mesh.vertices.push_back(points[image]);
-    mesh.source_index.push_back(static_cast<int>(image));
+    mesh.source_index.push_back(image);
   }
-  result.viewpoint_on_hull = std::binary_search(sorted.begin(), sorted.end(), n);
+  result.viewpoint_on_hull = !hull_vertices.empty() && hull_vertices.back() == static_cast<int>(n);
   if (result.viewpoint_on_hull) {
     mesh.viewpoint_vertex = static_cast<int>(mesh.vertices.size());
     mesh_index_of_image[n] = mesh.viewpoint_vertex;
@@ -164,9 +202,7 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const GhprCo
   // point into the enclosed free space.
   mesh.triangles.reserve(hull_faces.size());
   for (const auto& f : hull_faces) {
-    mesh.triangles.push_back({mesh_index_of_image[hull_vertices[f[0]]],
-                              mesh_index_of_image[hull_vertices[f[2]]],
-                              mesh_index_of_image[hull_vertices[f[1]]]});
+    mesh.triangles.push_back({mesh_index_of_image[f[0]], mesh_index_of_image[f[2]], mesh_index_of_image[f[1]]});
   }
   result.mesh_ms = MsSince(t);
   result.status = GhprStatus::kOk;

@@ -16,6 +16,10 @@ enum class GhprKernel {
 struct GhprConfig {
   GhprKernel kernel = GhprKernel::kExponential;
   double gamma = -0.03;
+  /// Compute every hull with CGAL's quickhull instead of the project's incremental hull. Both are
+  /// exact and give the same mesh; CGAL's is slower and is the reference in tests and benchmarks.
+  /// The incremental hull hands degenerate clouds (coplanar or duplicate points) to CGAL anyway.
+  bool reference_hull = false;
   /// @throws std::invalid_argument if gamma has the wrong sign for the kernel or is not finite.
   void Validate() const;
 };
@@ -39,6 +43,7 @@ struct GhprResult {
   std::string message;           ///< human-readable reason when status != kOk
   FreeSpaceMesh mesh;            ///< faces not yet classified (face_traversable empty)
   bool viewpoint_on_hull = false;
+  bool used_reference_hull = false;  ///< CGAL's quickhull computed this hull (asked for, or degenerate input)
   double transform_ms = 0.0;     ///< wall time of the image transform
   double hull_ms = 0.0;          ///< wall time of the convex hull
   double mesh_ms = 0.0;          ///< wall time of carrying the hull back to the points
