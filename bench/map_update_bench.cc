@@ -17,6 +17,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -32,6 +34,7 @@
 #include <octomap/octomap.h>
 
 #include "ovpc/core/ovpc_mapper.h"
+#include "ovpc/core/point_cloud_buffer.h"
 #include "ovpc/core/synthetic_scene.h"
 
 namespace ovpc::bench {
@@ -64,11 +67,13 @@ struct Options {
   std::string csv_path;
   std::string json_path;
   bool quick = false;
+  int sequence = 200;  // consecutive clouds of a driving vehicle (0: skip)
+  int soak = 0;        // map updates for the memory check (0: skip)
 };
 
 void PrintUsage(std::ostream& out) {
   out << "usage: ovpc_bench [--reps N] [--sizes 6000,10000,14000,50000] [--seed S]\n"
-         "                  [--csv FILE] [--json FILE] [--quick] [--help]\n"
+         "                  [--csv FILE] [--json FILE] [--sequence N] [--soak N] [--quick] [--help]\n"
          "  --reps N     timed repetitions per (method, size), default "
       << kDefaultReps
       << "; a case whose warm-up run says\n"
@@ -80,6 +85,10 @@ void PrintUsage(std::ostream& out) {
       << " are cycled through the reps\n"
          "  --csv FILE   write one row per (method or OVPC stage, size)\n"
          "  --json FILE  write the same as JSON\n"
+         "  --sequence N consecutive clouds of a vehicle driving at 1 m/s under the carport, one\n"
+         "               update per 20 Hz scan: tail latency (p99/median); default 200, 0 skips\n"
+         "  --soak N     N map updates cycling through the sequence's clouds, resident memory\n"
+         "               reported every N/10 updates (e.g. 10000); default 0 skips\n"
          "  --quick      smoke test: "
       << kQuickReps << " reps, sizes 6000 and 14000 (explicit --reps/--sizes win)\n";
 }
@@ -157,6 +166,12 @@ int ParseArgs(int argc, char** argv, Options* options) {
         return bad("--seed needs a non-negative whole number");
       }
       options->seed = seed;
+    } else if (arg == "--sequence" || arg == "--soak") {
+      std::uint64_t count = 0;
+      if (!next_value(&value) || !ParseUnsigned(value, &count) || count > 1000000) {
+        return bad(arg + " needs a whole number from 0 to 1000000");
+      }
+      (arg == "--sequence" ? options->sequence : options->soak) = static_cast<int>(count);
     } else if (arg == "--csv") {
       if (!next_value(&options->csv_path) || options->csv_path.empty()) {
         return bad("--csv needs a file name");
@@ -172,6 +187,7 @@ int ParseArgs(int argc, char** argv, Options* options) {
   if (options->quick) {
     if (!reps_given) options->reps = kQuickReps;
     if (!sizes_given) options->sizes = {6000, 14000};
+    options->sequence = std::min(options->sequence, 20);
   }
   return 0;
 }
@@ -441,6 +457,80 @@ void ReportProgress(std::size_t size, const std::string& method, const Stats& st
                stats.reps, stats.median_ms);
 }
 
+// --- Sequence: tail latency and memory over consecutive clouds -------------------------------
+
+long ResidentKb(const char* field) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind(field, 0) == 0) return std::atol(line.c_str() + std::strlen(field));
+  }
+  return -1;
+}
+
+// A vehicle drives at 1 m/s along +y from (0, -8) through the carport; every 20 Hz scan goes into the
+// point cloud buffer (25 scans, 14,000 points) and the map is updated from the buffer.
+std::vector<Points> SequenceClouds(int frames, std::uint64_t seed) {
+  const synth::Scene scene = synth::MakeOutdoorScene(seed);
+  const synth::SpinningLidarMount mount;
+  PointCloudBuffer buffer;
+  std::vector<Points> clouds;
+  const int warmup = buffer.config().max_scans - 1;
+  for (int k = 0; k < frames + warmup; ++k) {
+    const double t_s = k / mount.scan_hz;
+    Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
+    T_O_B.translation() = Vec3(0.0, -8.0 + 1.0 * t_s, 0.0);
+    T_O_B.linear() = Eigen::AngleAxisd(kPi / 2, Vec3::UnitZ()).toRotationMatrix();
+    for (Scan& scan : synth::SimulateScans(scene, mount, T_O_B, t_s, 1, 0.015, seed * 100000 + k)) {
+      buffer.Push(std::move(scan));
+    }
+    if (k >= warmup) clouds.push_back(buffer.Build().points_L);
+  }
+  return clouds;
+}
+
+void RunSequence(const Options& options, std::vector<Row>* rows) {
+  std::fprintf(stderr, "[sequence] simulating %d consecutive clouds\n", options.sequence);
+  const std::vector<Points> clouds = SequenceClouds(options.sequence, options.seed);
+  const OvpcMapper mapper;
+  OvpcMapper::Config reference_config;
+  reference_config.ghpr.reference_hull = true;
+  const OvpcMapper reference(reference_config);
+  std::vector<double> fast_ms, reference_ms;
+  std::size_t min_points = SIZE_MAX, max_points = 0, failures = 0;
+  RunOvpc(mapper, clouds.front());  // warm-up
+  for (const Points& cloud : clouds) {
+    min_points = std::min(min_points, cloud.size());
+    max_points = std::max(max_points, cloud.size());
+    const OvpcRun run = RunOvpc(mapper, cloud);
+    failures += run.ok ? 0 : 1;
+    fast_ms.push_back(run.run.ms);
+    reference_ms.push_back(RunOvpc(reference, cloud).run.ms);
+  }
+  const Stats fast = ComputeStats(fast_ms), ref = ComputeStats(reference_ms);
+  std::printf("\nSequence: %zu consecutive clouds (%zu..%zu points), one update per scan\n", clouds.size(),
+              min_points, max_points);
+  std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f%s\n", "ovpc",
+              fast.median_ms, fast.p90_ms, fast.p99_ms, fast.max_ms, fast.p99_ms / fast.median_ms,
+              failures ? "  (some updates failed)" : "");
+  std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f\n",
+              "ovpc (CGAL quickhull)", ref.median_ms, ref.p90_ms, ref.p99_ms, ref.max_ms, ref.p99_ms / ref.median_ms);
+  rows->push_back(Row{max_points, "sequence.ovpc", false, fast, 1.0, clouds.size(), "clouds"});
+  rows->push_back(Row{max_points, "sequence.ovpc_cgal_hull", false, ref, ref.median_ms / fast.median_ms,
+                      clouds.size(), "clouds"});
+
+  if (options.soak <= 0) return;
+  std::printf("\nSoak: %d updates cycling through the sequence, resident memory (VmRSS):\n", options.soak);
+  const int every = std::max(1, options.soak / 10);
+  for (int i = 0; i < options.soak; ++i) {
+    const OvpcMap map = mapper.Update(clouds[static_cast<std::size_t>(i) % clouds.size()], Vec3::Zero());
+    if ((i + 1) % every == 0) {
+      std::printf("  after %6d updates: %ld kB (peak %ld kB)\n", i + 1, ResidentKb("VmRSS:"), ResidentKb("VmHWM:"));
+      std::fflush(stdout);
+    }
+  }
+}
+
 int Main(int argc, char** argv) {
   Options options;
   const int parse = ParseArgs(argc, argv, &options);
@@ -514,6 +604,11 @@ int Main(int argc, char** argv) {
       ReportProgress(size, name, row.stats);
       rows.push_back(row);
     };
+    OvpcMapper::Config reference_config;
+    reference_config.ghpr.reference_hull = true;
+    const OvpcMapper reference(reference_config);
+    add_method("ovpc_cgalhull", "visible points",
+               [&](int cloud) { return RunOvpc(reference, clouds[cloud]).run; });
     add_method("cgal_hull", "hull vertices",
                [&](int cloud) { return RunPlainHull(clouds[cloud], gamma); });
     for (const double res_m : kOctomapResolutions_m) {
@@ -535,7 +630,8 @@ int Main(int argc, char** argv) {
   std::printf("timing:  steady_clock around the measured call; 1 untimed warm-up per case; "
               "reps %d (fewer if over %.0f s per case); ratio = median / OVPC median\n",
               options.reps, kCaseBudget_s);
-  std::printf("methods: ovpc = OvpcMapper::Update (gamma %.3g); cgal_hull = GHPR transform + "
+  std::printf("methods: ovpc = OvpcMapper::Update (gamma %.3g); ovpc_cgalhull = the same with CGAL's quickhull\n"
+              "         (GhprConfig::reference_hull); cgal_hull = plain path: GHPR transform + "
               "CGAL convex_hull_3 on all points;\n"
               "         octomap_R = fresh OcTree(R), insertPointCloud from the origin, no max "
               "range\n\n",
@@ -582,7 +678,9 @@ int Main(int argc, char** argv) {
     std::printf("\nWARNING: %d OVPC updates did not return ok (first: %s)\n", ovpc_failures,
                 first_failure.c_str());
   }
-  std::printf("\nbenchmark wall time %.1f s\n", bench_s);
+  if (options.sequence > 0) RunSequence(options, &rows);
+  std::printf("\nbenchmark wall time %.1f s (sizes), %.1f s (all)\n", bench_s,
+              MsSince(bench_start, Clock::now()) / 1000.0);
 
   int exit_code = 0;
   if (!options.csv_path.empty()) {
