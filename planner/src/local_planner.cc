@@ -251,7 +251,8 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
   const ob::PlannerTerminationCondition ptc = ob::plannerOrTerminationCondition(
       iterations, ob::exactSolnPlannerTerminationCondition(pdef));
   planner->solve(ptc);
-  result.iterations = iterations.getTimesCalled();
+  // The condition is evaluated once per iteration, plus the final evaluation that stops the loop.
+  result.iterations = std::min(iterations.getTimesCalled(), config_.max_iterations);
   if (!pdef->hasExactSolution()) {
     result.status = PlanStatus::kNoPath;
     return result;

@@ -12,6 +12,10 @@ namespace {
 
 // A normal this close to horizontal cannot carry the vehicle; the box then stays upright.
 constexpr double kMinNormalZ = 0.2;
+// Grid cells for the box test: about the ground point spacing times two, and never more than
+// kMaxCells cells along a side, whatever the map's extent.
+constexpr double kCellM = 0.5;
+constexpr int kMaxCells = 512;
 
 }  // namespace
 
@@ -36,6 +40,31 @@ VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
     bounds_.max_x_m = std::max(bounds_.max_x_m, p.x());
     bounds_.min_y_m = std::min(bounds_.min_y_m, p.y());
     bounds_.max_y_m = std::max(bounds_.max_y_m, p.y());
+  }
+
+  Grid& g = grid_;
+  const double extent = std::max(bounds_.max_x_m - bounds_.min_x_m, bounds_.max_y_m - bounds_.min_y_m);
+  g.cell_m = std::max(kCellM, extent / (kMaxCells - 1));
+  g.origin_x_m = bounds_.min_x_m;
+  g.origin_y_m = bounds_.min_y_m;
+  g.nx = static_cast<int>((bounds_.max_x_m - bounds_.min_x_m) / g.cell_m) + 1;
+  g.ny = static_cast<int>((bounds_.max_y_m - bounds_.min_y_m) / g.cell_m) + 1;
+  const auto cell_of = [&g](const Vec3& p) {
+    const int ix = std::min(g.nx - 1, static_cast<int>((p.x() - g.origin_x_m) / g.cell_m));
+    const int iy = std::min(g.ny - 1, static_cast<int>((p.y() - g.origin_y_m) / g.cell_m));
+    return static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
+  };
+  const std::size_t num_cells = static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny);
+  g.cell_begin.assign(num_cells + 1, 0);
+  for (const Vec3& p : cloud_.points()) ++g.cell_begin[cell_of(p) + 1];
+  for (std::size_t c = 0; c < num_cells; ++c) g.cell_begin[c + 1] += g.cell_begin[c];
+  std::vector<std::uint32_t> next(g.cell_begin.begin(), g.cell_begin.end() - 1);
+  g.points.resize(cloud_.size());
+  g.traversable.resize(cloud_.size());
+  for (std::size_t i = 0; i < cloud_.size(); ++i) {
+    const std::uint32_t slot = next[cell_of(cloud_.points()[i])]++;
+    g.points[slot] = cloud_.points()[i];
+    g.traversable[slot] = cloud_.traversable()[i];
   }
 }
 
@@ -70,22 +99,47 @@ std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
 }
 
 bool VertexCloudMap::IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const {
-  // One oriented-box query covers the vehicle box and the slab under its footprint; each point found
-  // is sorted by its height above the ground plane of the pose.
-  const double half_length = 0.5 * vehicle.length_m + vehicle.margin_m;
+  // The vehicle box and the slab under its footprint, in frame B: x along the heading from the rear
+  // axle, z along the ground normal from the ground plane of the pose.
+  const double min_x = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
+  const double max_x = vehicle.centre_ahead_m + 0.5 * vehicle.length_m + vehicle.margin_m;
   const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
   const double top = vehicle.height_m + vehicle.margin_m;
   const double bottom = -vehicle.footprint_depth_m;
-  Eigen::Isometry3d T_B_C = Eigen::Isometry3d::Identity();  // C: centre of the query box
-  T_B_C.translation() = Vec3(vehicle.centre_ahead_m, 0.0, 0.5 * (top + bottom));
-  const Eigen::Isometry3d T_L_C = ground.T_L_B * T_B_C;
-  const std::vector<int> inside = cloud_.InBox(T_L_C, Vec3(half_length, half_width, 0.5 * (top - bottom)));
-  if (inside.empty()) return true;
-  const Eigen::Isometry3d T_B_L = ground.T_L_B.inverse();
-  for (int i : inside) {
-    const double height = (T_B_L * cloud_.points()[i]).z();
-    if (height > vehicle.ground_clearance_m) return false;  // an obstacle, a roof, a wall in the box
-    if (!cloud_.traversable()[i]) return false;              // non-traversable ground under the footprint
+  if (grid_.points.empty()) return true;
+
+  // Planar bounding box of the eight corners, in cells.
+  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
+  for (double x : {min_x, max_x}) {
+    for (double y : {-half_width, half_width}) {
+      for (double z : {bottom, top}) {
+        const Vec3 c = ground.T_L_B * Vec3(x, y, z);
+        lo_x = std::min(lo_x, c.x()), hi_x = std::max(hi_x, c.x());
+        lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
+      }
+    }
+  }
+  const Grid& g = grid_;
+  const int ix0 = std::max(0, static_cast<int>(std::floor((lo_x - g.origin_x_m) / g.cell_m)));
+  const int ix1 = std::min(g.nx - 1, static_cast<int>(std::floor((hi_x - g.origin_x_m) / g.cell_m)));
+  const int iy0 = std::max(0, static_cast<int>(std::floor((lo_y - g.origin_y_m) / g.cell_m)));
+  const int iy1 = std::min(g.ny - 1, static_cast<int>(std::floor((hi_y - g.origin_y_m) / g.cell_m)));
+
+  const Eigen::Matrix3d R_B_L = ground.T_L_B.linear().transpose();
+  const Vec3 t_L = ground.T_L_B.translation();
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      const std::size_t cell = static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
+      for (std::uint32_t i = g.cell_begin[cell]; i < g.cell_begin[cell + 1]; ++i) {
+        const Vec3 p_B = R_B_L * (g.points[i] - t_L);
+        if (p_B.x() < min_x || p_B.x() > max_x || std::abs(p_B.y()) > half_width || p_B.z() < bottom ||
+            p_B.z() > top) {
+          continue;
+        }
+        if (p_B.z() > vehicle.ground_clearance_m) return false;  // an obstacle, a roof, a wall in the box
+        if (!g.traversable[i]) return false;                     // non-traversable ground under the footprint
+      }
+    }
   }
   return true;
 }

@@ -1,6 +1,9 @@
 // PlanningMap on the OVPC vertex cloud (core's TraversabilityCloud).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "ovpc/core/vertex_cloud.h"
 #include "ovpc/planner/planning_map.h"
 
@@ -38,9 +41,21 @@ class VertexCloudMap final : public PlanningMap {
   const Config& config() const { return config_; }
 
  private:
+  // The box test runs for every state the planner checks, so the points are also kept in a planar
+  // grid of cells (counting-sorted copies, contiguous per cell); the test visits the cells under
+  // the box and stops at the first blocking point. Same answer as TraversabilityCloud::InBox.
+  struct Grid {
+    double origin_x_m = 0.0, origin_y_m = 0.0, cell_m = 1.0;
+    int nx = 0, ny = 0;
+    std::vector<std::uint32_t> cell_begin;  // nx * ny + 1 offsets into points / traversable
+    std::vector<Vec3> points;
+    std::vector<std::uint8_t> traversable;
+  };
+
   TraversabilityCloud cloud_;
   Config config_;
   MapBounds bounds_;
+  Grid grid_;
 };
 
 }  // namespace ovpc::planner
