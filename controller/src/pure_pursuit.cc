@@ -30,6 +30,7 @@ void PurePursuit::Config::Validate() const {
   positive(stop_decel_mps2, "stop_decel_mps2");
   positive(stop_tolerance_m, "stop_tolerance_m");
   positive(standstill_mps, "standstill_mps");
+  positive(presteer_tolerance_rad, "presteer_tolerance_rad");
   if (!(max_steering_rad > 0.0 && max_steering_rad < kPi / 2)) {
     throw std::invalid_argument("PurePursuit::Config: max_steering_rad must be in (0, pi/2)");
   }
@@ -99,7 +100,7 @@ Eigen::Vector2d PurePursuit::PointAt(double s) const {
   return Position(poses[k]) + t * (Position(poses[k + 1]) - Position(poses[k]));
 }
 
-Command PurePursuit::Update(const planner::Pose2& pose, double speed_mps) {
+Command PurePursuit::Update(const planner::Pose2& pose, double speed_mps, std::optional<double> steering_rad) {
   Command command;
   if (done_) {
     command.done = true;
@@ -108,12 +109,9 @@ Command PurePursuit::Update(const planner::Pose2& pose, double speed_mps) {
   const Eigen::Vector2d position(pose.x_m, pose.y_m);
   double s = 0.0;
   for (;;) {
-    const auto& poses = path_.segments[segment_].poses;
+    // A vehicle past the end projects onto the end itself, so the remaining arc length covers both.
     s = Project(position);
-    const Eigen::Vector2d end = Position(poses.back());
-    const Eigen::Vector2d travel = (end - Position(poses[poses.size() - 2])).normalized();
-    const bool reached = arc_m_.back() - s <= config_.stop_tolerance_m || (position - end).dot(travel) > 0.0;
-    if (!reached) break;
+    if (arc_m_.back() - s > config_.stop_tolerance_m) break;
     // At a cusp or the end: stand still first (steering held), then take the next segment.
     if (std::abs(speed_mps) > config_.standstill_mps) {
       command.steering_rad = last_steering_rad_;
@@ -154,6 +152,10 @@ Command PurePursuit::Update(const planner::Pose2& pose, double speed_mps) {
   speed = std::min(speed, std::sqrt(2.0 * config_.stop_decel_mps2 * to_stop));
   speed = std::max(speed, std::min(config_.creep_speed_mps, forward ? config_.target_speed_mps : config_.reverse_speed_mps));
   command.speed_mps = forward ? speed : -speed;
+  if (steering_rad && std::abs(speed_mps) <= config_.standstill_mps &&
+      std::abs(*steering_rad - command.steering_rad) > config_.presteer_tolerance_rad) {
+    command.speed_mps = 0.0;  // steer first
+  }
   return command;
 }
 

@@ -87,8 +87,9 @@ std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
   }
   // Origin: the pose dropped vertically onto the tangent plane at the nearest point.
   const double z = p.z() - (normal.x() * (pose.x_m - p.x()) + normal.y() * (pose.y_m - p.y())) / normal.z();
+  // x: the heading tilted in its vertical plane onto the tangent plane, so the yaw is kept exactly.
   const Vec3 heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
-  const Vec3 x_axis = (heading - heading.dot(normal) * normal).normalized();
+  const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
   Eigen::Matrix3d R_L_B;
   R_L_B.col(0) = x_axis;
   R_L_B.col(1) = normal.cross(x_axis);
@@ -129,7 +130,8 @@ bool VertexCloudMap::IsBoxFree(const GroundPose& ground, const VehicleBox& vehic
   const Vec3 t_L = ground.T_L_B.translation();
   for (int iy = iy0; iy <= iy1; ++iy) {
     for (int ix = ix0; ix <= ix1; ++ix) {
-      const std::size_t cell = static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
+      const std::size_t cell =
+          static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
       for (std::uint32_t i = g.cell_begin[cell]; i < g.cell_begin[cell + 1]; ++i) {
         const Vec3 p_B = R_B_L * (g.points[i] - t_L);
         if (p_B.x() < min_x || p_B.x() > max_x || std::abs(p_B.y()) > half_width || p_B.z() < bottom ||

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -17,6 +18,15 @@ using testing::PlanningScene;
 
 const Pose2 kStart{-7.0, 0.0, 0.0};
 const Pose2 kGoal{7.0, 0.0, 0.0};
+
+// The scene tests run with several seeds: a property of the planner, not of one lucky seed.
+constexpr std::uint32_t kSeeds[] = {1, 2, 3, 4, 5, 6, 7, 8};
+
+LocalPlanner SeededPlanner(std::uint32_t seed) {
+  LocalPlanner::Config config;
+  config.seed = seed;
+  return LocalPlanner(config);
+}
 
 PlanResult PlanScene(const LocalPlanner& planner, const PlanningScene& scene) {
   return planner.Plan(*scene.map, scene.spec.start, scene.spec.goal);
@@ -92,63 +102,75 @@ TEST(LocalPlannerTest, ScenesAreBuiltByTheMapper) {
 }
 
 TEST(LocalPlannerTest, FlatGroundGivesANearStraightForwardPath) {
-  const LocalPlanner planner(LocalPlanner::Config{});
-  const PlanResult result = planner.Plan(*Flat().map, kStart, kGoal);
-  ExpectWellFormed(result, *Flat().map, planner, kStart, kGoal);
-  EXPECT_EQ(result.path.segments.size(), 1u);
-  EXPECT_EQ(result.path.segments.front().direction, Direction::kForward);
-  EXPECT_LT(result.path.Length(), 1.05 * 14.0);
-  double max_offset = 0.0;
-  for (const PathPose& p : result.path.Poses()) max_offset = std::max(max_offset, std::abs(p.pose.y_m));
-  EXPECT_LT(max_offset, 0.5);
-  EXPECT_GT(result.iterations, 0u);
-  EXPECT_LE(result.iterations, planner.config().max_iterations);
+  for (const std::uint32_t seed : kSeeds) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const LocalPlanner planner = SeededPlanner(seed);
+    const PlanResult result = planner.Plan(*Flat().map, kStart, kGoal);
+    ExpectWellFormed(result, *Flat().map, planner, kStart, kGoal);
+    EXPECT_EQ(result.path.segments.size(), 1u);
+    EXPECT_EQ(result.path.segments.front().direction, Direction::kForward);
+    EXPECT_LT(result.path.Length(), 1.05 * 14.0);
+    double max_offset = 0.0;
+    for (const PathPose& p : result.path.Poses()) max_offset = std::max(max_offset, std::abs(p.pose.y_m));
+    EXPECT_LT(max_offset, 0.5);
+    EXPECT_GT(result.iterations, 0u);
+    EXPECT_LE(result.iterations, planner.config().max_iterations);
+  }
 }
 
 TEST(LocalPlannerTest, GoesAroundAClusterOfPosts) {
-  const LocalPlanner planner(LocalPlanner::Config{});
-  const PlanResult result = PlanScene(planner, Posts());
-  ExpectWellFormed(result, *Posts().map, planner, Posts().spec.start, Posts().spec.goal);
-  const VehicleBox& vehicle = planner.config().vehicle;
-  double max_offset = 0.0;
-  for (const PathPose& p : result.path.Poses()) {
-    max_offset = std::max(max_offset, std::abs(p.pose.y_m));
-    for (const testing::Post& post : Posts().spec.posts) {
-      EXPECT_FALSE(InFootprint(vehicle, p.pose, post.x, post.y, post.radius))
-          << "post (" << post.x << ", " << post.y << ") under the vehicle at (" << p.pose.x_m << ", " << p.pose.y_m
-          << ")";
+  for (const std::uint32_t seed : kSeeds) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const LocalPlanner planner = SeededPlanner(seed);
+    const PlanResult result = PlanScene(planner, Posts());
+    ExpectWellFormed(result, *Posts().map, planner, Posts().spec.start, Posts().spec.goal);
+    const VehicleBox& vehicle = planner.config().vehicle;
+    double max_offset = 0.0;
+    for (const PathPose& p : result.path.Poses()) {
+      max_offset = std::max(max_offset, std::abs(p.pose.y_m));
+      for (const testing::Post& post : Posts().spec.posts) {
+        EXPECT_FALSE(InFootprint(vehicle, p.pose, post.x, post.y, post.radius))
+            << "post (" << post.x << ", " << post.y << ") under the vehicle at (" << p.pose.x_m << ", " << p.pose.y_m
+            << ")";
+      }
     }
+    EXPECT_GT(max_offset, 1.2 + 0.15 + 0.5 * vehicle.width_m);  // beside the outer posts
   }
-  EXPECT_GT(max_offset, 1.2 + 0.15 + 0.5 * vehicle.width_m);  // beside the outer posts
 }
 
 TEST(LocalPlannerTest, DrivesUnderACarportRoofAt2p5m) {
-  const LocalPlanner planner(LocalPlanner::Config{});
-  const PlanningScene& scene = Carport();
-  const PlanResult result = PlanScene(planner, scene);
-  ExpectWellFormed(result, *scene.map, planner, scene.spec.start, scene.spec.goal);
-  const testing::Rect roof = testing::CarportRoof();
-  int under = 0;
-  for (const PathPose& p : result.path.Poses()) under += roof.Contains(p.pose.x_m, p.pose.y_m);
-  EXPECT_GT(under, 30);  // the whole 4 m under the roof
-  EXPECT_LT(result.path.Length(), 1.05 * (scene.spec.goal.x_m - scene.spec.start.x_m));
+  for (const std::uint32_t seed : kSeeds) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const LocalPlanner planner = SeededPlanner(seed);
+    const PlanningScene& scene = Carport();
+    const PlanResult result = PlanScene(planner, scene);
+    ExpectWellFormed(result, *scene.map, planner, scene.spec.start, scene.spec.goal);
+    const testing::Rect roof = testing::CarportRoof();
+    int under = 0;
+    for (const PathPose& p : result.path.Poses()) under += roof.Contains(p.pose.x_m, p.pose.y_m);
+    EXPECT_GT(under, 30);  // the whole 4 m under the roof
+    EXPECT_LT(result.path.Length(), 1.05 * (scene.spec.goal.x_m - scene.spec.start.x_m));
+  }
 }
 
 TEST(LocalPlannerTest, NeverDrivesUnderARoofAt1p6m) {
-  const LocalPlanner planner(LocalPlanner::Config{});
-  const PlanningScene& scene = LowRoof();
-  const PlanResult result = PlanScene(planner, scene);
-  ASSERT_TRUE(result.status == PlanStatus::kFound || result.status == PlanStatus::kNoPath)
-      << PlanStatusName(result.status);
-  // This scene leaves room to pass beside the slab, in view of the scanning vehicle.
-  ExpectWellFormed(result, *scene.map, planner, scene.spec.start, scene.spec.goal);
-  const testing::Rect roof = testing::LowRoof();
-  const VehicleBox& vehicle = planner.config().vehicle;
-  for (const PathPose& p : result.path.Poses()) {
-    for (double x = roof.min_x + 0.25; x < roof.max_x - 0.2; x += 0.25) {
-      for (double y = roof.min_y + 0.25; y < roof.max_y - 0.2; y += 0.25) {
-        ASSERT_FALSE(InFootprint(vehicle, p.pose, x, y, 0.0))
-            << "under the roof at (" << p.pose.x_m << ", " << p.pose.y_m << ")";
+  for (const std::uint32_t seed : kSeeds) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const LocalPlanner planner = SeededPlanner(seed);
+    const PlanningScene& scene = LowRoof();
+    const PlanResult result = PlanScene(planner, scene);
+    ASSERT_TRUE(result.status == PlanStatus::kFound || result.status == PlanStatus::kNoPath)
+        << PlanStatusName(result.status);
+    // This scene leaves room to pass beside the slab, in view of the scanning vehicle.
+    ExpectWellFormed(result, *scene.map, planner, scene.spec.start, scene.spec.goal);
+    const testing::Rect roof = testing::LowRoof();
+    const VehicleBox& vehicle = planner.config().vehicle;
+    for (const PathPose& p : result.path.Poses()) {
+      for (double x = roof.min_x; x <= roof.max_x + 1e-9; x += 0.25) {
+        for (double y = roof.min_y; y <= roof.max_y + 1e-9; y += 0.25) {
+          ASSERT_FALSE(InFootprint(vehicle, p.pose, x, y, 0.0))
+              << "under the roof at (" << p.pose.x_m << ", " << p.pose.y_m << ")";
+        }
       }
     }
   }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "ovpc/controller/command.h"
@@ -21,6 +22,10 @@ namespace ovpc::controller {
 /// steering limit. Speed: the target speed, lowered in tight curves (lateral acceleration limit) and
 /// towards stops (deceleration limit), never below a creeping speed until the stop is reached.
 ///
+/// Standing still with a measured steering angle far from the command, it waits (speed 0) for the
+/// wheels to turn before setting off: a Reeds-Shepp path switches between full left and full right
+/// at its cusps.
+///
 /// Create one follower per path (a new plan gets a new follower); Update is called once per control
 /// step with the measured rear-axle pose and speed.
 class PurePursuit {
@@ -31,13 +36,16 @@ class PurePursuit {
     double target_speed_mps = 1.0;             ///< paper
     double reverse_speed_mps = 0.5;            ///< backwards more carefully (assumption)
     double creep_speed_mps = 0.1;              ///< least speed while a stop is not reached
-    double lookahead_gain_s = 1.0;
-    double lookahead_min_m = 1.5;
+    double lookahead_gain_s = 0.5;
+    double lookahead_min_m = 1.0;
     double lookahead_max_m = 4.0;
     double max_lateral_accel_mps2 = 0.2;       ///< v <= sqrt(a / |curvature|)
     double stop_decel_mps2 = 0.5;              ///< v <= sqrt(2 a d) at distance d before a stop
     double stop_tolerance_m = 0.1;             ///< a cusp or the end counts as reached this close
     double standstill_mps = 0.05;              ///< below this speed the vehicle counts as stopped
+    /// Standing (at the start or at a cusp), the vehicle waits until the measured steering angle is
+    /// this close to the command, so that it does not set off on the wrong curve.
+    double presteer_tolerance_rad = DegToRad(3.0);
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
@@ -45,8 +53,10 @@ class PurePursuit {
   /// @throws std::invalid_argument for an invalid config.
   PurePursuit(const Config& config, planner::Path path);
 
-  /// The command for the vehicle's rear axle at `pose` moving at `speed_mps` (signed).
-  Command Update(const planner::Pose2& pose, double speed_mps);
+  /// The command for the vehicle's rear axle at `pose` moving at `speed_mps` (signed), with the
+  /// measured steering angle if the vehicle reports one (used only to steer before setting off).
+  Command Update(const planner::Pose2& pose, double speed_mps,
+                 std::optional<double> steering_rad = std::nullopt);
 
   bool done() const { return done_; }
   std::size_t segment_index() const { return segment_; }
