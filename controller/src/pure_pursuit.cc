@@ -90,7 +90,9 @@ Eigen::Vector2d PurePursuit::PointAt(double s) const {
     // Past the end: continue along the direction of travel of the last piece, so that the vehicle
     // aims straight at the stop.
     const Eigen::Vector2d end = Position(poses[n - 1]);
-    const Eigen::Vector2d travel = (end - Position(poses[n - 2])).normalized();
+    std::size_t k = n - 2;  // the last pose apart from the end (the segment is longer than zero)
+    while (k > 0 && (end - Position(poses[k])).norm() < 1e-9) --k;
+    const Eigen::Vector2d travel = (end - Position(poses[k])).normalized();
     return end + (s - arc_m_.back()) * travel;
   }
   const auto it = std::upper_bound(arc_m_.begin(), arc_m_.end(), s);

@@ -152,6 +152,17 @@ TEST(PurePursuitTest, SteersBeforeSettingOff) {
   EXPECT_GT(follower.Update(Pose2{0.0, 0.0, 0.0}, 0.5, 0.0).speed_mps, 0.0);
 }
 
+TEST(PurePursuitTest, RepeatedPosesAreHarmless) {
+  Path path;
+  path.segments.push_back(Straight(Direction::kForward, {0.0, 0.0}, {5.0, 0.0}));
+  path.segments.back().poses.push_back(path.segments.back().poses.back());  // the end twice
+  path.segments.back().poses.insert(path.segments.back().poses.begin(), path.segments.back().poses.front());
+  const std::vector<Step> log = Follow(path, At(0.0, 0.0, 0.0), 30.0);
+  ASSERT_TRUE(log.back().command.done);
+  for (const Step& s : log) ASSERT_TRUE(std::isfinite(s.command.steering_rad) && std::isfinite(s.command.speed_mps));
+  EXPECT_LT(Last(log, {5.0, 0.0}), 0.3);
+}
+
 TEST(PurePursuitTest, EmptyPathIsDoneAtOnce) {
   PurePursuit follower(PurePursuit::Config{}, Path{});
   EXPECT_TRUE(follower.done());
