@@ -1,0 +1,47 @@
+// The local goal on a global route (paper: "inside the mesh at a minimum distance ahead").
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "ovpc/planner/planning_map.h"
+
+namespace ovpc::planner {
+
+struct LocalGoalConfig {
+  /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
+  double min_distance_m = 4.0;
+  /// The route is examined at this spacing between its waypoints.
+  double step_m = 0.25;
+  /// Also require that the vehicle box fits at the goal (CheckPose), not only that the place is
+  /// known free, so that the planner does not reject the goal.
+  bool require_vehicle_fit = true;
+  /// @throws std::invalid_argument naming the offending field.
+  void Validate() const;
+};
+
+struct LocalGoal {
+  Pose2 pose;                  ///< in the map frame L; yaw along the route
+  double route_progress_m = 0; ///< distance along the route from its first waypoint
+  bool is_route_end = false;   ///< the goal is the route's last waypoint
+};
+
+/// The farthest point along the route, ahead of the vehicle, that is inside known free space and
+/// traversable (and, by default, where the vehicle fits) and at least `min_distance_m` from the
+/// vehicle. The route's last waypoint qualifies at any distance. "Ahead" means past the route point
+/// closest to the vehicle. Nothing if no route point qualifies.
+///
+/// @param route_O waypoints in the odometry frame O, in driving order.
+/// @param T_L_O the odometry frame in the map frame (the mapper's frame L has the axes of O, so this is
+///        usually a translation).
+/// @param vehicle_L the vehicle pose in the map frame.
+std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
+                                         const std::vector<Eigen::Vector2d>& route_O,
+                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
+                                         const LocalGoalConfig& config);
+
+}  // namespace ovpc::planner

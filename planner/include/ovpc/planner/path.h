@@ -1,0 +1,52 @@
+// Planar poses and the planner's output path; the controller follows it.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "ovpc/core/types.h"
+
+namespace ovpc::planner {
+
+/// Yaw wrapped to [-pi, pi). OMPL's SO(2) bounds exclude +pi, so every yaw handed to OMPL and every
+/// yaw the planner returns goes through this.
+double NormalizeYaw(double yaw_rad);
+
+/// A pose in the horizontal plane of the map frame L (gravity-aligned, z up). For the vehicle it is
+/// the centre of the rear axle, the point whose turning radius the Reeds-Shepp space models.
+struct Pose2 {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+};
+
+enum class Direction { kForward, kReverse };
+const char* DirectionName(Direction direction);
+
+/// One pose of the output path with the height of the ground it was projected onto.
+struct PathPose {
+  Pose2 pose;
+  double z_m = 0.0;
+};
+
+/// A stretch of the path driven in one direction. Consecutive segments of a Path share the cusp
+/// pose: the last pose of one is the first pose of the next.
+struct PathSegment {
+  Direction direction = Direction::kForward;
+  std::vector<PathPose> poses;  ///< at least two
+  /// Length of the polyline through the poses, m.
+  double Length() const;
+};
+
+/// The planner's output: segments split at cusps (where the vehicle stops and changes direction).
+struct Path {
+  std::vector<PathSegment> segments;
+
+  bool empty() const { return segments.empty(); }
+  double Length() const;
+  /// Every pose once, in driving order (cusp poses are not repeated).
+  std::vector<PathPose> Poses() const;
+  int NumCusps() const { return segments.empty() ? 0 : static_cast<int>(segments.size()) - 1; }
+};
+
+}  // namespace ovpc::planner

@@ -1,0 +1,75 @@
+// The narrow map interface the planner sees, the vehicle box, and the state validity rule.
+#pragma once
+
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "ovpc/planner/path.h"
+
+namespace ovpc::planner {
+
+/// The vehicle as the collision check sees it: an oriented box around the body and the sensor mast.
+/// Dimensions are those of the paper's John Deere Gator TE (length, width, mast height and the rear
+/// axle position are assumptions, see ../shared/REFERENCE.md).
+struct VehicleBox {
+  double length_m = 2.8;
+  double width_m = 1.5;
+  double height_m = 2.2;             ///< ground to the top of the sensor mast
+  double margin_m = 0.1;             ///< added to every side and to the top
+  double ground_clearance_m = 0.2;   ///< the box bottom, above the ground at the pose
+  double centre_ahead_m = 0.95;      ///< box centre ahead of the pose origin (the rear axle)
+  double footprint_depth_m = 0.5;    ///< non-traversable points down to this depth below the ground
+                                     ///< under the footprint also block the pose
+  /// @throws std::invalid_argument naming the offending field.
+  void Validate() const;
+};
+
+/// A pose placed on the ground: frame B has its origin on the local ground surface below the planar
+/// pose, z along the surface normal and x along the heading projected onto the surface (the vehicle
+/// aligned to the normal with its heading kept).
+struct GroundPose {
+  Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();
+  bool traversable = false;  ///< the surface point the pose was projected onto is traversable
+};
+
+/// Axis-aligned planar extent of a map, the planner's sampling bounds.
+struct MapBounds {
+  double min_x_m = 0.0;
+  double max_x_m = 0.0;
+  double min_y_m = 0.0;
+  double max_y_m = 0.0;
+  bool Contains(double x_m, double y_m) const {
+    return x_m >= min_x_m && x_m <= max_x_m && y_m >= min_y_m && y_m <= max_y_m;
+  }
+};
+
+/// What the planner needs from a map. Implemented for the OVPC vertex cloud (VertexCloudMap); an
+/// OctoMap or a 2.5D grid can implement it too, for closed-loop comparisons. Implementations must be
+/// deterministic and safe to call concurrently from const methods.
+class PlanningMap {
+ public:
+  virtual ~PlanningMap() = default;
+  /// Places the planar pose on the ground, or nothing when the place is outside known free space.
+  virtual std::optional<GroundPose> Project(const Pose2& pose) const = 0;
+  /// True if the vehicle box at `ground` holds no map point and no non-traversable point lies under
+  /// its footprint.
+  virtual bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const = 0;
+  /// True if (x, y) is inside known free space on traversable ground.
+  virtual bool IsKnownFree(double x_m, double y_m) const = 0;
+  virtual MapBounds Bounds() const = 0;
+};
+
+/// Outcome of the validity check of one pose, in the order the checks run.
+enum class PoseCheck {
+  kValid,
+  kOutsideMap,      ///< outside the bounds or no map point close enough below the pose
+  kNotTraversable,  ///< projected onto a non-traversable point
+  kCollision,       ///< a point inside the box or a non-traversable point under the footprint
+};
+const char* PoseCheckName(PoseCheck check);
+
+/// The planner's state validity rule: project, require traversable ground, then a free box.
+PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose);
+
+}  // namespace ovpc::planner

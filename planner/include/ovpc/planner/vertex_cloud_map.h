@@ -1,0 +1,61 @@
+// PlanningMap on the OVPC vertex cloud (core's TraversabilityCloud).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "ovpc/core/vertex_cloud.h"
+#include "ovpc/planner/planning_map.h"
+
+namespace ovpc::planner {
+
+/// The paper's rule on the OVPC map: a planar pose is projected onto the nearest visible point (k-d
+/// tree), the vehicle box is aligned to that point's normal with the heading kept, and the box is
+/// free when no visible point lies inside it and no non-traversable point lies under its footprint.
+/// Because the map is 3D, a roof and the ground under it are both in it: the projection searches
+/// from the vehicle's ground height, and a roof lower than the box top collides, a higher one not.
+class VertexCloudMap final : public PlanningMap {
+ public:
+  struct Config {
+    /// Height of the ground near the vehicle in the map frame. The nearest-point search starts at
+    /// this height and is repeated once at the height found, so that it follows slopes and picks
+    /// the ground under a roof rather than the roof. With the mapper's frame (viewpoint at the
+    /// origin) it is minus the sensor height above the ground (-1.88 m on the paper's robot).
+    double ground_reference_z_m = 0.0;
+    /// A pose farther than this from its nearest visible point is outside known free space.
+    double max_projection_distance_m = 0.75;
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
+
+  /// @throws std::invalid_argument for an invalid config.
+  VertexCloudMap(TraversabilityCloud cloud, const Config& config);
+
+  std::optional<GroundPose> Project(const Pose2& pose) const override;
+  bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const override;
+  bool IsKnownFree(double x_m, double y_m) const override;
+  /// The planar bounding box of all visible points (the local mesh extent).
+  MapBounds Bounds() const override { return bounds_; }
+
+  const TraversabilityCloud& cloud() const { return cloud_; }
+  const Config& config() const { return config_; }
+
+ private:
+  // The box test runs for every state the planner checks, so the points are also kept in a planar
+  // grid of cells (counting-sorted copies, contiguous per cell); the test visits the cells under
+  // the box and stops at the first blocking point. Same answer as TraversabilityCloud::InBox.
+  struct Grid {
+    double origin_x_m = 0.0, origin_y_m = 0.0, cell_m = 1.0;
+    int nx = 0, ny = 0;
+    std::vector<std::uint32_t> cell_begin;  // nx * ny + 1 offsets into points / traversable
+    std::vector<Vec3> points;
+    std::vector<std::uint8_t> traversable;
+  };
+
+  TraversabilityCloud cloud_;
+  Config config_;
+  MapBounds bounds_;
+  Grid grid_;
+};
+
+}  // namespace ovpc::planner

@@ -1,0 +1,86 @@
+#include "ovpc/planner/local_goal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace ovpc::planner {
+namespace {
+
+struct RoutePoint {
+  Eigen::Vector2d position;
+  double yaw_rad;
+  double progress_m;
+  bool is_end;
+};
+
+// The route in frame L, resampled every `step_m` along each leg, each point with the leg's heading.
+std::vector<RoutePoint> Resample(const std::vector<Eigen::Vector2d>& route_O, const Eigen::Isometry3d& T_L_O,
+                                 double step_m) {
+  std::vector<Eigen::Vector2d> route_L;
+  route_L.reserve(route_O.size());
+  for (const Eigen::Vector2d& p_O : route_O) route_L.push_back((T_L_O * Vec3(p_O.x(), p_O.y(), 0.0)).head<2>());
+  std::vector<RoutePoint> out;
+  double progress = 0.0;
+  double yaw = 0.0;
+  for (std::size_t i = 0; i < route_L.size(); ++i) {
+    if (i + 1 < route_L.size()) {
+      const Eigen::Vector2d leg = route_L[i + 1] - route_L[i];
+      const double length = leg.norm();
+      if (length > 1e-9) yaw = std::atan2(leg.y(), leg.x());
+      const int steps = std::max(1, static_cast<int>(std::ceil(length / step_m)));
+      for (int k = 0; k < steps; ++k) {
+        const double f = static_cast<double>(k) / steps;
+        out.push_back({route_L[i] + f * leg, NormalizeYaw(yaw), progress + f * length, false});
+      }
+      progress += length;
+    } else {
+      out.push_back({route_L[i], NormalizeYaw(yaw), progress, true});
+    }
+  }
+  // A route of one waypoint has no direction; the goal heading is then 0.
+  return out;
+}
+
+}  // namespace
+
+void LocalGoalConfig::Validate() const {
+  if (!(min_distance_m >= 0.0) || !std::isfinite(min_distance_m)) {
+    throw std::invalid_argument("LocalGoalConfig: min_distance_m must be >= 0, got " + std::to_string(min_distance_m));
+  }
+  if (!(step_m > 0.0) || !std::isfinite(step_m)) {
+    throw std::invalid_argument("LocalGoalConfig: step_m must be > 0, got " + std::to_string(step_m));
+  }
+}
+
+std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
+                                         const std::vector<Eigen::Vector2d>& route_O,
+                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
+                                         const LocalGoalConfig& config) {
+  config.Validate();
+  const std::vector<RoutePoint> route = Resample(route_O, T_L_O, config.step_m);
+  if (route.empty()) return std::nullopt;
+  const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
+
+  // "Ahead" starts at the route point closest to the vehicle.
+  std::size_t closest = 0;
+  double closest_distance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < route.size(); ++i) {
+    const double d = (route[i].position - here).norm();
+    if (d < closest_distance) closest_distance = d, closest = i;
+  }
+
+  for (std::size_t i = route.size(); i-- > closest;) {
+    const RoutePoint& r = route[i];
+    if (!r.is_end && (r.position - here).norm() < config.min_distance_m) continue;
+    if (!map.IsKnownFree(r.position.x(), r.position.y())) continue;
+    const Pose2 pose{r.position.x(), r.position.y(), r.yaw_rad};
+    if (config.require_vehicle_fit && CheckPose(map, vehicle, pose) != PoseCheck::kValid) continue;
+    return LocalGoal{pose, r.progress_m, r.is_end};
+  }
+  return std::nullopt;
+}
+
+}  // namespace ovpc::planner

@@ -1,0 +1,39 @@
+#include "ovpc/planner/replan.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace ovpc::planner {
+
+const char* ReplanReasonName(ReplanReason reason) {
+  switch (reason) {
+    case ReplanReason::kNone: return "none";
+    case ReplanReason::kNoPath: return "no path";
+    case ReplanReason::kPathBlocked: return "path blocked";
+    case ReplanReason::kGoalTooClose: return "goal too close";
+    case ReplanReason::kPeriodElapsed: return "period elapsed";
+  }
+  return "unknown";
+}
+
+void ReplanConfig::Validate() const {
+  if (!(period_s > 0.0) || !std::isfinite(period_s)) {
+    throw std::invalid_argument("ReplanConfig: period_s must be > 0, got " + std::to_string(period_s));
+  }
+  if (!(goal_too_close_m >= 0.0) || !std::isfinite(goal_too_close_m)) {
+    throw std::invalid_argument("ReplanConfig: goal_too_close_m must be >= 0, got " + std::to_string(goal_too_close_m));
+  }
+}
+
+ReplanReason CheckReplan(const ReplanConfig& config, const ReplanInputs& inputs) {
+  if (!inputs.has_path || !inputs.last_plan_s) return ReplanReason::kNoPath;
+  if (inputs.path_blocked) return ReplanReason::kPathBlocked;
+  if (!inputs.goal_is_route_end && inputs.distance_to_goal_m < config.goal_too_close_m) {
+    return ReplanReason::kGoalTooClose;
+  }
+  if (inputs.now_s - *inputs.last_plan_s >= config.period_s) return ReplanReason::kPeriodElapsed;
+  return ReplanReason::kNone;
+}
+
+}  // namespace ovpc::planner

@@ -1,0 +1,155 @@
+#include "ovpc/planner/vertex_cloud_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace ovpc::planner {
+namespace {
+
+// A normal this close to horizontal cannot carry the vehicle; the box then stays upright.
+constexpr double kMinNormalZ = 0.2;
+// Grid cells for the box test: about the ground point spacing times two, and never more than
+// kMaxCells cells along a side, whatever the map's extent.
+constexpr double kCellM = 0.5;
+constexpr int kMaxCells = 512;
+
+}  // namespace
+
+void VertexCloudMap::Config::Validate() const {
+  if (!std::isfinite(ground_reference_z_m)) {
+    throw std::invalid_argument("VertexCloudMap::Config: ground_reference_z_m must be finite");
+  }
+  if (!(max_projection_distance_m > 0.0) || !std::isfinite(max_projection_distance_m)) {
+    throw std::invalid_argument("VertexCloudMap::Config: max_projection_distance_m must be > 0, got " +
+                                std::to_string(max_projection_distance_m));
+  }
+}
+
+VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
+    : cloud_(std::move(cloud)), config_(config) {
+  config_.Validate();
+  if (cloud_.empty()) return;  // empty bounds: every pose is outside the map
+  bounds_.min_x_m = bounds_.min_y_m = std::numeric_limits<double>::infinity();
+  bounds_.max_x_m = bounds_.max_y_m = -std::numeric_limits<double>::infinity();
+  for (const Vec3& p : cloud_.points()) {
+    bounds_.min_x_m = std::min(bounds_.min_x_m, p.x());
+    bounds_.max_x_m = std::max(bounds_.max_x_m, p.x());
+    bounds_.min_y_m = std::min(bounds_.min_y_m, p.y());
+    bounds_.max_y_m = std::max(bounds_.max_y_m, p.y());
+  }
+
+  Grid& g = grid_;
+  const double extent = std::max(bounds_.max_x_m - bounds_.min_x_m, bounds_.max_y_m - bounds_.min_y_m);
+  g.cell_m = std::max(kCellM, extent / (kMaxCells - 1));
+  g.origin_x_m = bounds_.min_x_m;
+  g.origin_y_m = bounds_.min_y_m;
+  g.nx = static_cast<int>((bounds_.max_x_m - bounds_.min_x_m) / g.cell_m) + 1;
+  g.ny = static_cast<int>((bounds_.max_y_m - bounds_.min_y_m) / g.cell_m) + 1;
+  const auto cell_of = [&g](const Vec3& p) {
+    const int ix = std::min(g.nx - 1, static_cast<int>((p.x() - g.origin_x_m) / g.cell_m));
+    const int iy = std::min(g.ny - 1, static_cast<int>((p.y() - g.origin_y_m) / g.cell_m));
+    return static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
+  };
+  const std::size_t num_cells = static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny);
+  g.cell_begin.assign(num_cells + 1, 0);
+  for (const Vec3& p : cloud_.points()) ++g.cell_begin[cell_of(p) + 1];
+  for (std::size_t c = 0; c < num_cells; ++c) g.cell_begin[c + 1] += g.cell_begin[c];
+  std::vector<std::uint32_t> next(g.cell_begin.begin(), g.cell_begin.end() - 1);
+  g.points.resize(cloud_.size());
+  g.traversable.resize(cloud_.size());
+  for (std::size_t i = 0; i < cloud_.size(); ++i) {
+    const std::uint32_t slot = next[cell_of(cloud_.points()[i])]++;
+    g.points[slot] = cloud_.points()[i];
+    g.traversable[slot] = cloud_.traversable()[i];
+  }
+}
+
+std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
+  // Nearest visible point to the pose at the reference height, then again at the height found: on a
+  // slope the first answer lies uphill or downhill of the pose, the second is close below it.
+  const auto first = cloud_.Nearest(Vec3(pose.x_m, pose.y_m, config_.ground_reference_z_m));
+  if (!first) return std::nullopt;
+  const Vec3 query(pose.x_m, pose.y_m, cloud_.points()[first->index].z());
+  const auto nearest = cloud_.Nearest(query);
+  if (!nearest || nearest->distance_m > config_.max_projection_distance_m) return std::nullopt;
+
+  const Vec3& p = cloud_.points()[nearest->index];
+  Vec3 normal = cloud_.normals()[nearest->index];
+  GroundPose ground;
+  ground.traversable = cloud_.traversable()[nearest->index] != 0;
+  if (!(normal.z() >= kMinNormalZ)) {
+    normal = Vec3::UnitZ();
+    ground.traversable = false;
+  }
+  // Origin: the pose dropped vertically onto the tangent plane at the nearest point.
+  const double z = p.z() - (normal.x() * (pose.x_m - p.x()) + normal.y() * (pose.y_m - p.y())) / normal.z();
+  // x: the heading tilted in its vertical plane onto the tangent plane, so the yaw is kept exactly.
+  const Vec3 heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
+  const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
+  Eigen::Matrix3d R_L_B;
+  R_L_B.col(0) = x_axis;
+  R_L_B.col(1) = normal.cross(x_axis);
+  R_L_B.col(2) = normal;
+  ground.T_L_B.linear() = R_L_B;
+  ground.T_L_B.translation() = Vec3(pose.x_m, pose.y_m, z);
+  return ground;
+}
+
+bool VertexCloudMap::IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const {
+  // The vehicle box and the slab under its footprint, in frame B: x along the heading from the rear
+  // axle, z along the ground normal from the ground plane of the pose.
+  const double min_x = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
+  const double max_x = vehicle.centre_ahead_m + 0.5 * vehicle.length_m + vehicle.margin_m;
+  const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
+  const double top = vehicle.height_m + vehicle.margin_m;
+  const double bottom = -vehicle.footprint_depth_m;
+  if (grid_.points.empty()) return true;
+
+  // Planar bounding box of the eight corners, in cells.
+  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
+  for (double x : {min_x, max_x}) {
+    for (double y : {-half_width, half_width}) {
+      for (double z : {bottom, top}) {
+        const Vec3 c = ground.T_L_B * Vec3(x, y, z);
+        lo_x = std::min(lo_x, c.x()), hi_x = std::max(hi_x, c.x());
+        lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
+      }
+    }
+  }
+  const Grid& g = grid_;
+  const int ix0 = std::max(0, static_cast<int>(std::floor((lo_x - g.origin_x_m) / g.cell_m)));
+  const int ix1 = std::min(g.nx - 1, static_cast<int>(std::floor((hi_x - g.origin_x_m) / g.cell_m)));
+  const int iy0 = std::max(0, static_cast<int>(std::floor((lo_y - g.origin_y_m) / g.cell_m)));
+  const int iy1 = std::min(g.ny - 1, static_cast<int>(std::floor((hi_y - g.origin_y_m) / g.cell_m)));
+
+  const Eigen::Matrix3d R_B_L = ground.T_L_B.linear().transpose();
+  const Vec3 t_L = ground.T_L_B.translation();
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      const std::size_t cell =
+          static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
+      for (std::uint32_t i = g.cell_begin[cell]; i < g.cell_begin[cell + 1]; ++i) {
+        const Vec3 p_B = R_B_L * (g.points[i] - t_L);
+        if (p_B.x() < min_x || p_B.x() > max_x || std::abs(p_B.y()) > half_width || p_B.z() < bottom ||
+            p_B.z() > top) {
+          continue;
+        }
+        if (p_B.z() > vehicle.ground_clearance_m) return false;  // an obstacle, a roof, a wall in the box
+        if (!g.traversable[i]) return false;                     // non-traversable ground under the footprint
+      }
+    }
+  }
+  return true;
+}
+
+bool VertexCloudMap::IsKnownFree(double x_m, double y_m) const {
+  if (!bounds_.Contains(x_m, y_m)) return false;
+  const auto ground = Project(Pose2{x_m, y_m, 0.0});
+  return ground && ground->traversable;
+}
+
+}  // namespace ovpc::planner

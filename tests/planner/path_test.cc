@@ -1,0 +1,47 @@
+#include "ovpc/planner/path.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace ovpc::planner {
+namespace {
+
+TEST(PathTest, NormalizeYawIsInMinusPiToPi) {
+  EXPECT_EQ(NormalizeYaw(kPi), -kPi);  // +pi is outside OMPL's SO(2) bounds
+  EXPECT_EQ(NormalizeYaw(-kPi), -kPi);
+  EXPECT_EQ(NormalizeYaw(0.0), 0.0);
+  EXPECT_NEAR(NormalizeYaw(3.0 * kPi), -kPi, 1e-12);
+  EXPECT_NEAR(NormalizeYaw(2.0 * kPi + 0.1), 0.1, 1e-12);
+  EXPECT_NEAR(NormalizeYaw(-2.0 * kPi - 0.1), -0.1, 1e-12);
+  EXPECT_NEAR(NormalizeYaw(kPi - 1e-9), kPi - 1e-9, 1e-15);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-100.0, 100.0);
+  for (int i = 0; i < 10000; ++i) {
+    const double yaw = u(rng);
+    const double n = NormalizeYaw(yaw);
+    ASSERT_GE(n, -kPi);
+    ASSERT_LT(n, kPi);
+    ASSERT_NEAR(std::remainder(n - yaw, 2.0 * kPi), 0.0, 1e-9);
+  }
+}
+
+TEST(PathTest, PosesListsCuspsOnceAndLengthsAddUp) {
+  Path path;
+  path.segments.push_back({Direction::kForward, {{{0, 0, 0}, 0}, {{1, 0, 0}, 0}, {{2, 0, 0}, 0}}});
+  path.segments.push_back({Direction::kReverse, {{{2, 0, 0}, 0}, {{2, 1, 0}, 0}}});
+  EXPECT_EQ(path.NumCusps(), 1);
+  EXPECT_DOUBLE_EQ(path.segments[0].Length(), 2.0);
+  EXPECT_DOUBLE_EQ(path.Length(), 3.0);
+  const auto poses = path.Poses();
+  ASSERT_EQ(poses.size(), 4u);
+  EXPECT_EQ(poses[2].pose.x_m, 2.0);
+  EXPECT_EQ(poses[3].pose.y_m, 1.0);
+  EXPECT_EQ(Path{}.NumCusps(), 0);
+  EXPECT_TRUE(Path{}.Poses().empty());
+  EXPECT_STREQ(DirectionName(Direction::kReverse), "reverse");
+}
+
+}  // namespace
+}  // namespace ovpc::planner

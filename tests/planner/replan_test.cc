@@ -1,0 +1,65 @@
+#include "ovpc/planner/replan.h"
+
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace ovpc::planner {
+namespace {
+
+ReplanInputs Standing(double now_s) {
+  ReplanInputs in;
+  in.now_s = now_s;
+  in.last_plan_s = 10.0;
+  in.has_path = true;
+  in.distance_to_goal_m = 6.0;
+  return in;
+}
+
+TEST(ReplanTest, EachTriggerOfThePaper) {
+  const ReplanConfig config;  // 1 s, 2 m
+  EXPECT_EQ(CheckReplan(config, Standing(10.5)), ReplanReason::kNone);
+  // (iii) one second of simulated time.
+  EXPECT_EQ(CheckReplan(config, Standing(10.999)), ReplanReason::kNone);
+  EXPECT_EQ(CheckReplan(config, Standing(11.0)), ReplanReason::kPeriodElapsed);
+  // (i) the path collides after a map update, whatever the time.
+  ReplanInputs blocked = Standing(10.1);
+  blocked.path_blocked = true;
+  EXPECT_EQ(CheckReplan(config, blocked), ReplanReason::kPathBlocked);
+  // (ii) the goal is too close, unless it is the end of the route.
+  ReplanInputs close = Standing(10.1);
+  close.distance_to_goal_m = 1.5;
+  EXPECT_EQ(CheckReplan(config, close), ReplanReason::kGoalTooClose);
+  close.goal_is_route_end = true;
+  EXPECT_EQ(CheckReplan(config, close), ReplanReason::kNone);
+  // No path yet, or the last attempt failed.
+  ReplanInputs none = Standing(10.1);
+  none.has_path = false;
+  EXPECT_EQ(CheckReplan(config, none), ReplanReason::kNoPath);
+  none = Standing(10.1);
+  none.last_plan_s.reset();
+  EXPECT_EQ(CheckReplan(config, none), ReplanReason::kNoPath);
+}
+
+TEST(ReplanTest, ReasonsComeInTheOrderOfTheEnum) {
+  ReplanInputs all = Standing(20.0);
+  all.path_blocked = true;
+  all.distance_to_goal_m = 0.5;
+  EXPECT_EQ(CheckReplan(ReplanConfig{}, all), ReplanReason::kPathBlocked);
+  all.path_blocked = false;
+  EXPECT_EQ(CheckReplan(ReplanConfig{}, all), ReplanReason::kGoalTooClose);
+  EXPECT_STREQ(ReplanReasonName(ReplanReason::kPeriodElapsed), "period elapsed");
+}
+
+TEST(ReplanTest, ConfigIsValidated) {
+  ReplanConfig config;
+  config.period_s = 0.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = ReplanConfig{};
+  config.goal_too_close_m = -1.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  EXPECT_NO_THROW(ReplanConfig{}.Validate());
+}
+
+}  // namespace
+}  // namespace ovpc::planner

@@ -1,0 +1,131 @@
+#include "ovpc/planner/vertex_cloud_map.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "planning_scenes.h"
+
+namespace ovpc::planner {
+namespace {
+
+using testing::BuildScene;
+using testing::PlanningScene;
+
+// The rule written out with core's oriented-box query: the fast grid test must agree with it.
+bool ReferenceBoxFree(const TraversabilityCloud& cloud, const GroundPose& ground, const VehicleBox& v) {
+  const double top = v.height_m + v.margin_m, bottom = -v.footprint_depth_m;
+  Eigen::Isometry3d T_B_C = Eigen::Isometry3d::Identity();
+  T_B_C.translation() = Vec3(v.centre_ahead_m, 0.0, 0.5 * (top + bottom));
+  const Vec3 half(0.5 * v.length_m + v.margin_m, 0.5 * v.width_m + v.margin_m, 0.5 * (top - bottom));
+  for (int i : cloud.InBox(ground.T_L_B * T_B_C, half)) {
+    const double height = (ground.T_L_B.inverse() * cloud.points()[i]).z();
+    if (height > v.ground_clearance_m || !cloud.traversable()[i]) return false;
+  }
+  return true;
+}
+
+TEST(VertexCloudMapTest, BoxTestAgreesWithTheOrientedBoxQuery) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(-10.0, 10.0), y(-8.0, 8.0), yaw(-kPi, kPi);
+  const VehicleBox vehicle;
+  int free = 0, blocked = 0;
+  for (const auto& spec : {testing::PostsScene(), testing::CarportScene(), testing::SlopeScene(35.0)}) {
+    const PlanningScene scene = BuildScene(spec);
+    for (int k = 0; k < 600; ++k) {
+      const auto ground = scene.map->Project(Pose2{x(rng), y(rng), yaw(rng)});
+      if (!ground) continue;
+      const bool expected = ReferenceBoxFree(scene.map->cloud(), *ground, vehicle);
+      ASSERT_EQ(scene.map->IsBoxFree(*ground, vehicle), expected)
+          << "at " << ground->T_L_B.translation().transpose();
+      (expected ? free : blocked) += 1;
+    }
+  }
+  EXPECT_GT(free, 300);  // both answers were exercised
+  EXPECT_GT(blocked, 300);
+}
+
+TEST(VertexCloudMapTest, ARoofBelowTheMastCollidesAHigherOneDoesNot) {
+  const VehicleBox vehicle;  // 2.2 m with the mast, 0.1 m margin: box top at 2.3 m
+  const Pose2 under{-1.0, 0.0, 0.0};  // box from x = -1.6 to 1.45, under the roof (x in [-2, 2])
+  const PlanningScene high = BuildScene(testing::CarportScene(2.5));
+  EXPECT_EQ(CheckPose(*high.map, vehicle, under), PoseCheck::kValid);
+  const PlanningScene low = BuildScene(testing::CarportScene(2.25));
+  EXPECT_EQ(CheckPose(*low.map, vehicle, under), PoseCheck::kCollision);
+  // The ground under both roofs is in the map and traversable: it is the box that decides.
+  for (const PlanningScene* scene : {&high, &low}) {
+    const auto ground = scene->map->Project(under);
+    ASSERT_TRUE(ground.has_value());
+    EXPECT_TRUE(ground->traversable);
+    EXPECT_NEAR(ground->T_L_B.translation().z(), 0.0, 1e-9);
+    EXPECT_TRUE(scene->map->IsKnownFree(under.x_m, under.y_m));
+  }
+  // A lower vehicle fits under the 2.25 m roof.
+  VehicleBox low_vehicle = vehicle;
+  low_vehicle.height_m = 2.0;
+  EXPECT_EQ(CheckPose(*low.map, low_vehicle, under), PoseCheck::kValid);
+}
+
+TEST(VertexCloudMapTest, ProjectsOntoTheSlopeAlignedToItsNormalKeepingTheHeading) {
+  const double slope = DegToRad(5.0);
+  const PlanningScene scene = BuildScene(testing::SlopeScene(5.0));
+  const double yaw = 0.3;
+  const auto ground = scene.map->Project(Pose2{0.0, 0.5, yaw});  // mid-ramp
+  ASSERT_TRUE(ground.has_value());
+  EXPECT_TRUE(ground->traversable);
+  const Vec3 origin = ground->T_L_B.translation();
+  EXPECT_NEAR(origin.x(), 0.0, 1e-12);
+  EXPECT_NEAR(origin.y(), 0.5, 1e-12);
+  EXPECT_NEAR(origin.z(), std::tan(slope) * 1.0, 0.02);  // ground height at x = 0
+  const Eigen::Matrix3d R = ground->T_L_B.linear();
+  EXPECT_NEAR((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(R.determinant(), 1.0, 1e-9);
+  const Vec3 normal(-std::sin(slope), 0.0, std::cos(slope));
+  EXPECT_NEAR(R.col(2).dot(normal), 1.0, 1e-3);
+  // x stays in the vertical plane of the heading.
+  EXPECT_NEAR(std::atan2(R(1, 0), R(0, 0)), yaw, 1e-9);
+}
+
+TEST(VertexCloudMapTest, FarFromEveryPointIsOutsideKnownSpace) {
+  const PlanningScene scene = BuildScene(testing::PostsScene());
+  const VehicleBox vehicle;
+  EXPECT_EQ(CheckPose(*scene.map, vehicle, Pose2{50.0, 0.0, 0.0}), PoseCheck::kOutsideMap);
+  EXPECT_FALSE(scene.map->Project(Pose2{50.0, 0.0, 0.0}).has_value());
+  EXPECT_FALSE(scene.map->IsKnownFree(50.0, 0.0));
+  // Behind the posts, as seen from the scanning vehicle, the ground is unknown.
+  EXPECT_FALSE(scene.map->IsKnownFree(0.0, 5.0));
+  EXPECT_TRUE(scene.map->IsKnownFree(0.0, -4.0));
+  // Between the posts the ground is known but not traversable (its faces climb the posts).
+  EXPECT_EQ(CheckPose(*scene.map, vehicle, Pose2{0.6, 0.0, 0.0}), PoseCheck::kNotTraversable);
+  const MapBounds b = scene.map->Bounds();
+  EXPECT_GE(b.min_x_m, -11.0 - 1e-9);
+  EXPECT_LE(b.max_x_m, 11.0 + 1e-9);
+  EXPECT_LT(b.min_x_m, -10.0);
+  EXPECT_GT(b.max_y_m, 8.0);
+}
+
+TEST(VertexCloudMapTest, EmptyCloudIsOutsideEverywhere) {
+  const VertexCloudMap map(TraversabilityCloud{}, VertexCloudMap::Config{});
+  EXPECT_EQ(CheckPose(map, VehicleBox{}, Pose2{}), PoseCheck::kOutsideMap);
+  EXPECT_FALSE(map.IsKnownFree(0.0, 0.0));
+}
+
+TEST(VertexCloudMapTest, InvalidConfigThrowsNamingTheField) {
+  VertexCloudMap::Config config;
+  config.max_projection_distance_m = 0.0;
+  try {
+    VertexCloudMap map(TraversabilityCloud{}, config);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_projection_distance_m"), std::string::npos);
+  }
+  VehicleBox vehicle;
+  vehicle.ground_clearance_m = 3.0;
+  EXPECT_THROW(vehicle.Validate(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ovpc::planner
