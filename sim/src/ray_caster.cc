@@ -201,6 +201,7 @@ RayCaster::RayCaster(const Heightfield& terrain, const std::vector<Solid>& solid
   impl_->scene = rtcNewScene(impl_->device);
   if (impl_->scene == nullptr) ThrowEmbree(impl_->device, "rtcNewScene failed");
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  // Watertight triangle tests: no ray slips between two terrain triangles.
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
   impl_->Add(TessellateTerrain(terrain), Hit::kTerrain);
   for (std::size_t i = 0; i < solids.size(); ++i) {
