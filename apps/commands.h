@@ -25,5 +25,6 @@ using Runner = std::function<int()>;
 
 Runner RegisterMesh(CLI::App& app);
 Runner RegisterSynth(CLI::App& app);
+Runner RegisterRun(CLI::App& app);
 
 }  // namespace ovpc::apps

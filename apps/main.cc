@@ -11,12 +11,13 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("ovpc 0.1.0"));
   const Runner mesh = RegisterMesh(app);
   const Runner synth = RegisterSynth(app);
+  const Runner run = RegisterRun(app);
   bool known = argc < 2 || argv[1][0] == '-';
   for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     known = known || sub->check_name(argv[1]);
   }
   if (!known) {
-    std::cerr << "ovpc: error: unknown command '" << argv[1] << "' (expected one of: mesh, synth; see ovpc --help)\n";
+    std::cerr << "ovpc: error: unknown command '" << argv[1] << "' (expected one of: mesh, synth, run, suite; see ovpc --help)\n";
     return kExitBadInput;
   }
   try {
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("mesh")) return mesh();
     if (app.got_subcommand("synth")) return synth();
+    if (app.got_subcommand("run")) return run();
   } catch (const BadInput& e) {
     std::cerr << "ovpc: error: " << e.what() << "\n";
     return kExitBadInput;

@@ -32,45 +32,54 @@ void PointCloudBuffer::Config::Validate() const {
 
 Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats) {
   if (!(voxel_size_m > 0.0)) return points;
-  struct Entry {
+  // One pass with an open-addressing hash table of voxels (sum, count), then the voxels in order of
+  // their first point: O(n), deterministic, and no sort of the whole cloud.
+  struct Voxel {
     std::int64_t key[3];
-    std::uint32_t index;
+    Vec3 sum;
+    std::uint32_t count;
+    std::uint32_t first;  // index of the voxel's first point, for the output order
   };
+  thread_local std::vector<Voxel> voxels;
+  thread_local std::vector<std::int32_t> table;
+  std::size_t capacity = 16;
+  while (capacity < 2 * points.size()) capacity *= 2;
+  table.assign(capacity, -1);
+  voxels.clear();
   const double inv = 1.0 / voxel_size_m;
-  std::vector<Entry> entries;
-  entries.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
-    entries.push_back({{static_cast<std::int64_t>(std::floor(p.x() * inv)),
-                        static_cast<std::int64_t>(std::floor(p.y() * inv)),
-                        static_cast<std::int64_t>(std::floor(p.z() * inv))},
-                       static_cast<std::uint32_t>(i)});
+    const std::int64_t k[3] = {static_cast<std::int64_t>(std::floor(p.x() * inv)),
+                               static_cast<std::int64_t>(std::floor(p.y() * inv)),
+                               static_cast<std::int64_t>(std::floor(p.z() * inv))};
+    std::uint64_t h = Mix(static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL ^
+                          static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL ^
+                          static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL);
+    std::size_t slot = h & (capacity - 1);
+    while (true) {
+      const std::int32_t v = table[slot];
+      if (v < 0) {
+        table[slot] = static_cast<std::int32_t>(voxels.size());
+        voxels.push_back({{k[0], k[1], k[2]}, p, 1u, static_cast<std::uint32_t>(i)});
+        break;
+      }
+      Voxel& vox = voxels[v];
+      if (vox.key[0] == k[0] && vox.key[1] == k[1] && vox.key[2] == k[2]) {
+        vox.sum += p;
+        ++vox.count;
+        break;
+      }
+      slot = (slot + 1) & (capacity - 1);
+    }
   }
-  auto key_less = [](const Entry& a, const Entry& b) {
-    return std::lexicographical_compare(a.key, a.key + 3, b.key, b.key + 3);
-  };
-  auto same_key = [](const Entry& a, const Entry& b) {
-    return a.key[0] == b.key[0] && a.key[1] == b.key[1] && a.key[2] == b.key[2];
-  };
-  // Ties broken by index so that the centroid sums in a fixed order.
-  std::sort(entries.begin(), entries.end(), [&](const Entry& a, const Entry& b) {
-    if (same_key(a, b)) return a.index < b.index;
-    return key_less(a, b);
-  });
   Points out;
   std::size_t sparse = 0;
-  for (std::size_t begin = 0; begin < entries.size();) {
-    std::size_t end = begin + 1;
-    while (end < entries.size() && same_key(entries[begin], entries[end])) ++end;
-    const std::size_t hits = end - begin;
-    if (hits >= static_cast<std::size_t>(min_hits)) {
-      Vec3 sum = Vec3::Zero();
-      for (std::size_t k = begin; k < end; ++k) sum += points[entries[k].index];
-      out.push_back(sum / static_cast<double>(hits));
+  for (const Voxel& v : voxels) {
+    if (v.count >= static_cast<std::uint32_t>(min_hits)) {
+      out.push_back(v.sum / static_cast<double>(v.count));
     } else {
-      sparse += hits;
+      sparse += v.count;
     }
-    begin = end;
   }
   if (stats != nullptr) {
     stats->voxel_sparse += sparse;

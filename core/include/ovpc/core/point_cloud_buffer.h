@@ -31,8 +31,8 @@ struct BufferStats {
 };
 
 /// Voxel filter: one point (the centroid of its hits) per voxel that holds at least `min_hits`
-/// points. Output order is deterministic (sorted by voxel key). `voxel_size_m <= 0` returns the
-/// input unchanged. Non-finite points must have been removed before.
+/// points. Output order is deterministic (voxels in the order of their first point). `voxel_size_m
+/// <= 0` returns the input unchanged. Non-finite points must have been removed before.
 Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats = nullptr);
 
 /// Deterministic subsampling to at most `max_points`: keeps the points with the smallest value of a

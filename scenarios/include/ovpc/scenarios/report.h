@@ -1,0 +1,23 @@
+// What a run leaves behind: the scorecard, result.json, trajectory.csv and topdown.png.
+#pragma once
+
+#include <string>
+
+#include "ovpc/scenarios/closed_loop.h"
+
+namespace ovpc::scenarios {
+
+/// The scorecard table (criterion, expected, actual, pass/fail) and a summary line.
+std::string FormatScorecard(const Scenario& scenario, const RunResult& result);
+
+/// result.json: every criterion, times, real-time factor, distance, re-plans, stage timings.
+void WriteResultJson(const Scenario& scenario, const RunResult& result, const std::string& path);
+
+/// trajectory.csv: time, true pose, odometry pose, speed and commands, one row per record.
+void WriteTrajectoryCsv(const RunResult& result, const std::string& path);
+
+/// topdown.png: terrain shading, objects, route, goal, forbidden regions, the mapped points coloured
+/// by traversability, and the driven path.
+void WriteTopdownPng(const Scenario& scenario, const RunResult& result, const std::string& path);
+
+}  // namespace ovpc::scenarios

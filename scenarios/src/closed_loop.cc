@@ -1,0 +1,442 @@
+#include "ovpc/scenarios/closed_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "ovpc/core/cloud_io.h"
+#include "ovpc/sim/image.h"
+#include "ovpc/sim/renderer.h"
+
+namespace ovpc::scenarios {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using planner::Pose2;
+
+// Wall-clock samples of a stage, for the report only (nothing in the loop depends on them).
+class StageTimer {
+ public:
+  void Add(double ms) { samples_.push_back(ms); }
+  StageStats Stats() const {
+    StageStats s;
+    s.calls = samples_.size();
+    if (samples_.empty()) return s;
+    std::vector<double> v = samples_;
+    std::sort(v.begin(), v.end());
+    for (double x : v) s.total_ms += x;
+    s.mean_ms = s.total_ms / v.size();
+    s.median_ms = v[v.size() / 2];
+    s.p90_ms = v[std::min(v.size() - 1, v.size() * 9 / 10)];
+    s.max_ms = v.back();
+    return s;
+  }
+
+ private:
+  std::vector<double> samples_;
+};
+
+double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+Pose2 ToPose2(const Eigen::Isometry3d& T) {
+  const Vec3 x = T.linear().col(0);
+  return Pose2{T.translation().x(), T.translation().y(), planner::NormalizeYaw(std::atan2(x.y(), x.x()))};
+}
+
+void RollPitchDeg(const Eigen::Isometry3d& T, double* roll_deg, double* pitch_deg) {
+  const Eigen::Matrix3d& R = T.linear();
+  *pitch_deg = RadToDeg(std::asin(std::clamp(-R(2, 0), -1.0, 1.0)));
+  *roll_deg = RadToDeg(std::atan2(R(2, 1), R(2, 2)));
+}
+
+// A path in another frame with the same axes (the mapper's frame L and the odometry frame O differ
+// by a translation).
+planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
+  planner::Path out = path;
+  for (auto& seg : out.segments) {
+    for (auto& p : seg.poses) {
+      p.pose.x_m += offset.x();
+      p.pose.y_m += offset.y();
+      p.z_m += offset.z();
+    }
+  }
+  return out;
+}
+
+// Progress along a polyline: arc length of the closest point.
+double RouteProgress(const std::vector<Eigen::Vector2d>& route, const Eigen::Vector2d& p) {
+  if (route.size() == 1) return 0.0;
+  double best_d = 1e300, best_s = 0.0, s0 = 0.0;
+  for (std::size_t i = 0; i + 1 < route.size(); ++i) {
+    const Eigen::Vector2d a = route[i], ab = route[i + 1] - route[i];
+    const double len = ab.norm();
+    const double t = len > 0 ? std::clamp((p - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+    const double d = (a + t * ab - p).norm();
+    if (d < best_d) best_d = d, best_s = s0 + t * len;
+    s0 += len;
+  }
+  return best_s;
+}
+
+double RouteLength(const std::vector<Eigen::Vector2d>& route) {
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < route.size(); ++i) s += (route[i + 1] - route[i]).norm();
+  return s;
+}
+
+// Does the vehicle footprint at the true pose touch the region? Checked on a grid of footprint points.
+bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const Region& r) {
+  const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
+  for (int i = 0; i <= 4; ++i) {
+    for (int j = 0; j <= 2; ++j) {
+      const Vec3 p_B(x0 + (x1 - x0) * i / 4.0, -v.width_m / 2 + v.width_m * j / 2.0, 0.0);
+      const Vec3 p = T_W_B * p_B;
+      if (p.x() >= r.min_m.x() && p.x() <= r.max_m.x() && p.y() >= r.min_m.y() && p.y() <= r.max_m.y()) return true;
+    }
+  }
+  return false;
+}
+
+// The ground the vehicle stands on, which the sensor cannot see: measured points over the footprint
+// (grown by `margin_m`, up to 0.3 m above the ground) are replaced by a 0.25 m grid on the footprint
+// plane (z = 0 in B). Mixing both would put noisy points a few centimetres from exact ones and make
+// steep slivers of faces.
+void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, Points* points_L) {
+  const double x0 = -v.rear_overhang_m - margin_m, x1 = v.length_m - v.rear_overhang_m + margin_m;
+  const double y0 = -v.width_m / 2 - margin_m, y1 = v.width_m / 2 + margin_m;
+  const Eigen::Isometry3d T_B_L = T_L_B.inverse();
+  points_L->erase(std::remove_if(points_L->begin(), points_L->end(),
+                                 [&](const Vec3& p_L) {
+                                   const Vec3 p = T_B_L * p_L;
+                                   // A clearance band keeps measured points off the grid's edge.
+                                   constexpr double kBand = 0.12;
+                                   return p.x() >= x0 - kBand && p.x() <= x1 + kBand && p.y() >= y0 - kBand &&
+                                          p.y() <= y1 + kBand && p.z() < 0.3;
+                                 }),
+                  points_L->end());
+  constexpr double kStep = 0.25;
+  for (double x = x0; x <= x1 + 1e-9; x += kStep) {
+    for (double y = y0; y <= y1 + 1e-9; y += kStep) points_L->push_back(T_L_B * Vec3(x, y, 0.0));
+  }
+}
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+}  // namespace
+
+RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunOptions& options) {
+  scenario.Validate();
+  const auto wall_start = Clock::now();
+  RunResult result;
+  result.scenario = scenario.name;
+  result.seed = seed;
+  result.route_length_m = RouteLength(scenario.route_m);
+
+  // One seed feeds every random source.
+  sim::Simulator::Config sim_config = scenario.sim;
+  sim_config.lidar.seed = seed * 1000003ULL + 1;
+  sim_config.odometry.seed = seed * 1000003ULL + 2;
+  sim::Simulator sim(sim_config);
+  planner::LocalPlanner::Config planner_config = scenario.planner;
+  planner_config.seed = static_cast<std::uint32_t>(seed);
+  const planner::LocalPlanner local_planner(planner_config);
+  PointCloudBuffer buffer(scenario.buffer);
+  const OvpcMapper mapper(scenario.mapper);
+  const std::vector<Eigen::Vector2d>& route_O = scenario.route_m;  // O = W when the run starts
+
+  std::unique_ptr<sim::Renderer> renderer;
+  if (options.frames) renderer = std::make_unique<sim::Renderer>(sim);
+  if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir);
+
+  StageTimer t_physics, t_buffer, t_mapper, t_planner, t_controller;
+  std::optional<controller::PurePursuit> follower;
+  planner::Path path_O;
+  std::optional<Eigen::Vector2d> goal_O;
+  bool goal_is_route_end = false;
+  std::optional<double> last_plan_s;
+  controller::Command command;
+  std::optional<TraversabilityCloud> last_map_cloud;  // for frames
+  Eigen::Isometry3d last_T_W_L = Eigen::Isometry3d::Identity();
+
+  const double dt_map = 1.0 / scenario.loop.map_rate_hz;
+  const double dt_control = 1.0 / scenario.loop.control_rate_hz;
+  const double dt_record = 1.0 / scenario.loop.record_rate_hz;
+  double next_map = dt_map, next_control = 0.0, next_record = 0.0, next_snapshot = scenario.loop.mesh_snapshot_period_s;
+  double next_frame = 0.0, next_progress = 5.0;
+  double max_roll = 0.0, max_pitch = 0.0;
+  std::optional<double> goal_time_s;
+  std::vector<bool> region_entered(scenario.criteria.forbidden.size(), false);
+  Vec3 last_position = sim.T_W_B().translation();
+  const sim::GatorParams& vehicle = sim_config.vehicle;
+  const double step_s = sim.timestep_s();
+  int snapshot_index = 0;
+
+  result.end_reason = "time limit";
+  while (sim.time_s() + 0.5 * step_s < scenario.time_limit_s) {
+    const double now = sim.time_s();
+
+    // Control at its rate, from the odometry pose only.
+    if (now + 1e-9 >= next_control) {
+      next_control += dt_control;
+      const auto t = Clock::now();
+      if (follower) {
+        command = follower->Update(ToPose2(sim.T_O_B()), sim.forward_speed_mps());
+      } else {
+        command = controller::Command{0.0, 0.0, true};
+      }
+      sim.SetCommand(command.steering_rad, command.speed_mps);
+      t_controller.Add(MsSince(t));
+    }
+
+    auto t = Clock::now();
+    sim.Step();
+    std::vector<sim::Simulator::SensorScan> scans = sim.TakeScans();
+    t_physics.Add(MsSince(t));
+    t = Clock::now();
+    for (auto& s : scans) buffer.Push(std::move(s.scan));
+    const double time = sim.time_s();
+
+    // Truth for the criteria.
+    const Eigen::Isometry3d T_W_B = sim.T_W_B();
+    result.distance_m += (T_W_B.translation() - last_position).norm();
+    last_position = T_W_B.translation();
+    double roll, pitch;
+    RollPitchDeg(T_W_B, &roll, &pitch);
+    max_roll = std::max(max_roll, std::abs(roll));
+    max_pitch = std::max(max_pitch, std::abs(pitch));
+    const Eigen::Vector2d xy = T_W_B.translation().head<2>();
+    result.route_progress_m = std::max(result.route_progress_m, RouteProgress(scenario.route_m, xy));
+    const std::vector<sim::BodyContact> contacts = sim.BodyContacts();
+    if (!contacts.empty()) {
+      ++result.collision_steps;
+      if (result.collisions.size() < 5) {
+        result.collisions.push_back("t=" + Fixed(time, 2) + " s: " + contacts.front().vehicle_geom + " touched " +
+                                    contacts.front().world_geom);
+      }
+    }
+    for (std::size_t i = 0; i < region_entered.size(); ++i) {
+      if (!region_entered[i] && FootprintInRegion(T_W_B, vehicle, scenario.criteria.forbidden[i])) region_entered[i] = true;
+    }
+    if (now + 1e-9 >= next_record) {
+      next_record += dt_record;
+      result.trajectory.push_back({time, T_W_B, sim.T_O_B(), sim.forward_speed_mps(), command.steering_rad, command.speed_mps});
+    }
+    t_buffer.Add(MsSince(t));
+
+    // Map update, re-planning triggers and planning, at the map rate.
+    if (time + 1e-9 >= next_map) {
+      next_map += dt_map;
+      t = Clock::now();
+      PointCloudBuffer::LocalCloud cloud = buffer.Build();
+      if (scenario.loop.footprint_prior_margin_m > 0.0 && !cloud.points_L.empty()) {
+        AddFootprintPrior(cloud.T_O_L.inverse() * sim.T_O_B(), vehicle, scenario.loop.footprint_prior_margin_m,
+                          &cloud.points_L);
+      }
+      t_buffer.Add(MsSince(t));
+      t = Clock::now();
+      const OvpcMap map = mapper.Update(cloud.points_L, Vec3::Zero());
+      t_mapper.Add(MsSince(t));
+      ++result.map_updates;
+      if (!map.ok()) {
+        ++result.map_failures;
+      } else {
+        t = Clock::now();
+        const Eigen::Isometry3d T_L_O = cloud.T_O_L.inverse();
+        const Eigen::Isometry3d T_L_B = T_L_O * sim.T_O_B();
+        const Pose2 vehicle_L = ToPose2(T_L_B);
+        planner::VertexCloudMap::Config map_config = scenario.map;
+        map_config.ground_reference_z_m = T_L_B.translation().z();
+        const planner::VertexCloudMap vmap(map.cloud, map_config);
+        const Vec3 L_to_O = cloud.T_O_L.translation();
+
+        bool blocked = false;
+        if (follower && !follower->done()) {
+          blocked = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O)).has_value();
+          // Poses already driven past do not count: check only from the closest pose on.
+          if (blocked) {
+            const auto poses = path_O.Poses();
+            std::size_t closest = 0;
+            double best = 1e300;
+            const Eigen::Vector2d v(sim.T_O_B().translation().head<2>());
+            for (std::size_t i = 0; i < poses.size(); ++i) {
+              const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
+              if (d < best) best = d, closest = i;
+            }
+            blocked = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O), closest).has_value();
+          }
+        }
+        planner::ReplanInputs in;
+        in.now_s = time;
+        in.last_plan_s = last_plan_s;
+        in.has_path = follower.has_value() && !follower->done();
+        in.path_blocked = blocked;
+        in.distance_to_goal_m = goal_O ? (sim.T_O_B().translation().head<2>() - *goal_O).norm() : 0.0;
+        in.goal_is_route_end = goal_is_route_end;
+        const planner::ReplanReason reason = planner::CheckReplan(scenario.replan, in);
+        if (reason != planner::ReplanReason::kNone) {
+          const std::optional<planner::LocalGoal> goal =
+              planner::SelectLocalGoal(vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal);
+          last_plan_s = time;
+          if (goal) {
+            ++result.plans;
+            const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal->pose);
+            if (std::getenv("OVPC_DEBUG_PLAN") && time > 5.0 && plan.status == planner::PlanStatus::kStartInvalid) {
+              const auto ground = vmap.Project(vehicle_L);
+              std::fprintf(stderr, "DEBUG t=%.2f vehicle_L %.2f %.2f %.2f zref %.2f\n", time, vehicle_L.x_m, vehicle_L.y_m, vehicle_L.yaw_rad, map_config.ground_reference_z_m);
+              if (ground) {
+                const Eigen::Isometry3d T_B_L = ground->T_L_B.inverse();
+                for (std::size_t i = 0; i < map.cloud.size(); ++i) {
+                  const Vec3 p = T_B_L * map.cloud.points()[i];
+                  if (p.x() > -0.55 && p.x() < 2.45 && std::abs(p.y()) < 0.85 && p.z() > -0.5 && p.z() < 2.3 && (p.z() > 0.2 || !map.cloud.traversable()[i]))
+                  {
+                    std::fprintf(stderr, "  in box: B %.2f %.2f %.2f trav %d n %.2f %.2f %.2f\n", p.x(), p.y(), p.z(), map.cloud.traversable()[i], map.cloud.normals()[i].x(), map.cloud.normals()[i].y(), map.cloud.normals()[i].z());
+                    for (std::size_t f = 0; f < map.mesh.triangles.size(); ++f) {
+                      const auto& tri = map.mesh.triangles[f];
+                      if (tri[0] != (int)i && tri[1] != (int)i && tri[2] != (int)i) continue;
+                      std::fprintf(stderr, "     face trav %d n.z %.3f vp %d :", map.mesh.face_traversable[f], map.mesh.face_normals[f].z(), (int)map.mesh.TouchesViewpoint(f));
+                      for (int v : tri) { const Vec3 q = T_B_L * map.mesh.vertices[v]; std::fprintf(stderr, " (%.2f %.2f %.2f)", q.x(), q.y(), q.z()); }
+                      std::fprintf(stderr, "\n");
+                    }
+                  }
+                }
+              }
+              std::exit(3);
+            }
+            std::string outcome = planner::PlanStatusName(plan.status);
+            if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
+            if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
+            ++result.plan_outcomes[outcome];
+            if (plan.found()) {
+              ++result.replans_found;
+              path_O = Shifted(plan.path, L_to_O);
+              follower.emplace(scenario.controller, path_O);
+              goal_O = Eigen::Vector2d(goal->pose.x_m + L_to_O.x(), goal->pose.y_m + L_to_O.y());
+              goal_is_route_end = goal->is_route_end;
+            } else if (blocked) {
+              follower.reset();  // the old path runs into something: stand still until a plan is found
+            }
+          } else {
+            ++result.plan_outcomes["no_local_goal"];
+            if (blocked) follower.reset();
+          }
+        }
+        t_planner.Add(MsSince(t));
+
+        // What the robot mapped, in the world frame (by the truth at this time) for pictures.
+        const Eigen::Isometry3d T_W_L = T_W_B * (T_L_B.inverse());
+        last_T_W_L = T_W_L;
+        const auto& pts = map.cloud.points();
+        for (std::size_t i = 0; i < pts.size(); i += 7) result.map_points.push_back({T_W_L * pts[i], map.cloud.traversable()[i] != 0});
+        if (renderer) last_map_cloud = map.cloud;
+        if (!options.out_dir.empty() && scenario.loop.mesh_snapshot_period_s > 0 && time + 1e-9 >= next_snapshot) {
+          next_snapshot += scenario.loop.mesh_snapshot_period_s;
+          FreeSpaceMesh mesh_W = map.mesh;
+          for (Vec3& v : mesh_W.vertices) v = T_W_L * v;
+          std::ostringstream name;
+          name << "mesh_" << std::setw(3) << std::setfill('0') << snapshot_index++ << "_t" << Fixed(time, 1) << ".ply";
+          const std::string file = (std::filesystem::path(options.out_dir) / name.str()).string();
+          std::vector<Vec3> normals_W = map.cloud.normals();
+          for (Vec3& n : normals_W) n = T_W_L.linear() * n;
+          WriteMeshPly(file, mesh_W, normals_W);
+          result.files.push_back(file);
+        }
+      }
+    }
+
+    if (renderer && time + 1e-9 >= next_frame) {
+      next_frame += options.frame_period_s;
+      sim::Overlay overlay;
+      if (last_map_cloud) {
+        for (std::size_t i = 0; i < last_map_cloud->size(); i += 2) {
+          const bool trav = last_map_cloud->traversable()[i] != 0;
+          overlay.points.push_back({last_T_W_L * last_map_cloud->points()[i],
+                                    trav ? sim::Rgba{0.1f, 0.8f, 0.1f, 1.0f} : sim::Rgba{0.9f, 0.1f, 0.1f, 1.0f}});
+        }
+      }
+      if (follower) {
+        sim::Overlay::Polyline line;
+        const Eigen::Isometry3d T_W_O = T_W_B * sim.T_O_B().inverse();
+        for (const auto& p : path_O.Poses()) line.vertices_W.push_back(T_W_O * Vec3(p.pose.x_m, p.pose.y_m, p.z_m + 0.1));
+        overlay.polylines.push_back(line);
+      }
+      const sim::Image image = renderer->Render(sim::ChaseCamera{}, overlay);
+      std::ostringstream name;
+      name << "frame_" << std::setw(5) << std::setfill('0') << static_cast<int>(std::lround(time * 100)) << ".png";
+      const std::string file = (std::filesystem::path(options.out_dir) / name.str()).string();
+      sim::WritePng(image, file);
+      result.files.push_back(file);
+    }
+
+    if (options.progress && time >= next_progress) {
+      next_progress += 5.0;
+      std::fprintf(stderr, "\r%s: t=%5.1f / %.0f s, progress %5.1f / %.1f m, re-plans %zu   ", scenario.name.c_str(), time,
+                   scenario.time_limit_s, result.route_progress_m, result.route_length_m, result.replans_found);
+      std::fflush(stderr);
+    }
+
+    // The run ends when the goal region is reached (by the true pose).
+    if (scenario.criteria.goal_m && (xy - *scenario.criteria.goal_m).norm() <= scenario.criteria.goal_radius_m) {
+      goal_time_s = time;
+      result.end_reason = "goal reached";
+      break;
+    }
+    if (!scenario.criteria.goal_m && follower && follower->done() && goal_is_route_end) {
+      goal_time_s = time;
+      result.end_reason = "route end reached";
+      break;
+    }
+  }
+  if (options.progress) std::fprintf(stderr, "\n");
+
+  result.sim_time_s = sim.time_s();
+  result.wall_time_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  result.real_time_factor = result.wall_time_s > 0 ? result.sim_time_s / result.wall_time_s : 0.0;
+  result.physics_lidar = t_physics.Stats();
+  result.buffer = t_buffer.Stats();
+  result.mapper = t_mapper.Stats();
+  result.planner = t_planner.Stats();
+  result.controller = t_controller.Stats();
+
+  // Scoring.
+  const Criteria& c = scenario.criteria;
+  auto add = [&](std::string name, std::string expected, std::string actual, bool passed) {
+    result.criteria.push_back({std::move(name), std::move(expected), std::move(actual), passed});
+  };
+  if (c.goal_m) {
+    const double d = (Eigen::Vector2d(last_position.head<2>()) - *c.goal_m).norm();
+    add("goal_reached", "within " + Fixed(c.goal_radius_m, 1) + " m of (" + Fixed(c.goal_m->x(), 1) + ", " + Fixed(c.goal_m->y(), 1) + ")",
+        goal_time_s ? "at t=" + Fixed(*goal_time_s, 1) + " s" : "no, " + Fixed(d, 1) + " m away", goal_time_s.has_value());
+  }
+  if (c.no_collision) {
+    add("no_collision", "0 body contacts", result.collision_steps == 0 ? "none" : result.collisions.front(),
+        result.collision_steps == 0);
+  }
+  if (c.max_roll_deg) add("max_roll", "<= " + Fixed(*c.max_roll_deg, 1) + " deg", Fixed(max_roll, 1) + " deg", max_roll <= *c.max_roll_deg);
+  if (c.max_pitch_deg) add("max_pitch", "<= " + Fixed(*c.max_pitch_deg, 1) + " deg", Fixed(max_pitch, 1) + " deg", max_pitch <= *c.max_pitch_deg);
+  if (c.max_time_s) {
+    add("completion_time", "<= " + Fixed(*c.max_time_s, 0) + " s", goal_time_s ? Fixed(*goal_time_s, 1) + " s" : "not completed",
+        goal_time_s && *goal_time_s <= *c.max_time_s);
+  }
+  if (c.min_progress_m) {
+    add("min_progress", ">= " + Fixed(*c.min_progress_m, 1) + " m", Fixed(result.route_progress_m, 1) + " m",
+        result.route_progress_m >= *c.min_progress_m);
+  }
+  for (std::size_t i = 0; i < c.forbidden.size(); ++i) {
+    add("never_enter:" + c.forbidden[i].name, "never entered", region_entered[i] ? "entered" : "never entered", !region_entered[i]);
+  }
+  result.passed = std::all_of(result.criteria.begin(), result.criteria.end(), [](const CriterionResult& r) { return r.passed; });
+  return result;
+}
+
+}  // namespace ovpc::scenarios
