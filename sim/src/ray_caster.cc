@@ -68,7 +68,8 @@ void AddCylinder(const Solid& solid, double tol_m, TriangleMesh* mesh) {
 
 void AddEllipsoid(const Solid& solid, double tol_m, TriangleMesh* mesh) {
   const Vec3& radii = solid.half_extents;
-  const int n_lon = SegmentsFor(radii.maxCoeff(), tol_m);
+  // Half the tolerance each way: a quad's centre deviates in both directions.
+  const int n_lon = SegmentsFor(radii.maxCoeff(), 0.5 * tol_m);
   const int n_lat = std::max(4, n_lon / 2);
   const int base = static_cast<int>(mesh->vertices.size());
   // Rings between the poles, then the two poles.

@@ -12,6 +12,9 @@ namespace {
 
 constexpr int kLasers = 16;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Firing and step times are sums of floating-point periods: times this close are equal (a firing
+// period is 55 us).
+constexpr double kTimeEpsilon_s = 1e-9;
 
 struct ElevationTable {
   double cos_e[kLasers];
@@ -125,7 +128,7 @@ void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
     const int j = static_cast<int>(next_firing_ % firings_per_scan_);
     // A scan ends where the next one's first firing would be.
     if (j == 0 && next_firing_ > 0 && current_.rays > 0) {
-      if (t_s > to.time_s) break;  // the end pose is not known yet
+      if (t_s > to.time_s + kTimeEpsilon_s) break;  // the end pose is not known yet
       current_.time_s = t_s;
       current_.T_W_S = InterpolatePose(from, to, t_s) * mount.T_B_S(t_s);
       const Eigen::Isometry3d T_S_W = current_.T_W_S.inverse();
@@ -134,7 +137,7 @@ void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
       if (completed != nullptr) completed->push_back(std::move(current_));
       StartScan();
     }
-    if (t_s >= to.time_s) break;
+    if (t_s >= to.time_s - kTimeEpsilon_s) break;  // belongs to the next interval
 
     const Eigen::Isometry3d T_W_S = InterpolatePose(from, to, t_s) * mount.T_B_S(t_s);
     const Eigen::Matrix3d& R_W_S = T_W_S.linear();
