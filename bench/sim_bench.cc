@@ -1,7 +1,8 @@
 // Simulator benchmark: LiDAR rays per second on one core, physics and physics + LiDAR cost per
 // simulated second at the default terrain resolution, and render time per frame.
 //
-// World: the default 60 m x 60 m terrain at 0.2 m cells with fractal roughness (0.25 m amplitude),
+// World: the default 60 m x 60 m terrain at 0.2 m cells with fractal roughness (0.25 m amplitude;
+// --rough 0 for flat ground),
 // a carport, posts, trees (trunk + crown) and walls, placed by a fixed formula. The vehicle drives
 // at 2 m/s on a gentle curve. Timing: both wall-clock (steady_clock) and the thread's CPU time
 // (CLOCK_THREAD_CPUTIME_ID), because this machine is shared: the CPU figure is what one core
@@ -49,6 +50,7 @@ struct Timer {
 struct Options {
   double seconds = 5.0;  // simulated seconds per physics case
   double cell_m = 0.2;
+  double rough_m = 0.25;
   int frames = 20;
   int reps = 5;
   bool quick = false;
@@ -59,6 +61,7 @@ void PrintUsage(std::ostream& out) {
          "  --seconds S  simulated seconds per physics case and repetition (default 5)\n"
          "  --reps N     repetitions of every case; best and median are reported (default 5)\n"
          "  --cell M     terrain cell size in metres (default 0.2, the simulator's default)\n"
+         "  --rough A    terrain roughness amplitude in metres (default 0.25; 0 for flat)\n"
          "  --frames N   rendered frames (default 20)\n"
          "  --quick      smoke run: 1 simulated second, 1 repetition, 2 frames\n";
 }
@@ -85,6 +88,8 @@ int ParseArgs(int argc, char** argv, Options* options) {
       options->seconds = v;
     } else if (arg == "--cell" && value(&v)) {
       options->cell_m = v;
+    } else if (arg == "--rough" && i + 1 < argc) {
+      options->rough_m = std::strtod(argv[++i], nullptr);
     } else if (arg == "--frames" && value(&v)) {
       options->frames = static_cast<int>(v);
     } else if (arg == "--reps" && value(&v)) {
@@ -98,11 +103,11 @@ int ParseArgs(int argc, char** argv, Options* options) {
   return 0;
 }
 
-sim::World BenchWorld(double cell_m) {
+sim::World BenchWorld(double cell_m, double rough_m) {
   sim::World world;
-  world.terrain.kind = sim::TerrainConfig::Kind::kRough;
+  world.terrain.kind = rough_m > 0.0 ? sim::TerrainConfig::Kind::kRough : sim::TerrainConfig::Kind::kFlat;
   world.terrain.cell_m = cell_m;
-  world.terrain.rough.amplitude_m = 0.25;
+  world.terrain.rough.amplitude_m = std::max(0.0, rough_m);
   world.terrain.rough.seed = 3;
   sim::CarportObject carport;
   carport.x_m = 12.0;
@@ -148,7 +153,7 @@ sim::World BenchWorld(double cell_m) {
 
 Simulator::Config BenchConfig(const Options& options, bool lidar) {
   Simulator::Config config;
-  config.world = BenchWorld(options.cell_m);
+  config.world = BenchWorld(options.cell_m, options.rough_m);
   config.lidar_enabled = lidar;
   config.start_x_m = -8.0;
   return config;
@@ -182,8 +187,10 @@ int Main(int argc, char** argv) {
   const int parse = ParseArgs(argc, argv, &options);
   if (parse != 0) return parse < 0 ? 0 : parse;
   const int reps = std::max(1, options.reps);
-  std::printf("ovpc_sim_bench: terrain cell %.2f m, %.1f simulated s per case, %d repetitions%s\n",
-              options.cell_m, options.seconds, reps, options.quick ? " (quick)" : "");
+  std::printf(
+      "ovpc_sim_bench: terrain cell %.2f m, roughness %.2f m, %.1f simulated s per case, %d "
+      "repetitions%s\n",
+      options.cell_m, options.rough_m, options.seconds, reps, options.quick ? " (quick)" : "");
   std::printf("  %-48s %9s %9s %9s\n", "", "best cpu", "med cpu", "med wall");
 
   // World build: terrain, MuJoCo model, Embree scene.

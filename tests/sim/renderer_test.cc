@@ -66,6 +66,27 @@ TEST(RendererTest, RendersTheChaseViewWithOverlayToPng) {
   std::remove(path.c_str());
 }
 
+TEST(OverlayTest, FreeSpaceMeshIsColouredByTraversabilityWithoutTheViewpointFaces) {
+  FreeSpaceMesh mesh;
+  mesh.vertices = {Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0), Vec3(1.0, 1.0, 0.0), Vec3::Zero()};
+  mesh.viewpoint_vertex = 3;
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {1, 0, 2}};
+  mesh.face_traversable = {1, 0, 0};
+  Eigen::Isometry3d T_W_L = Eigen::Isometry3d::Identity();
+  T_W_L.translation() = Vec3(10.0, 0.0, 2.0);
+  Overlay overlay;
+  overlay.AddPoints({Vec3(1.0, 2.0, 3.0)}, T_W_L, {1.0f, 1.0f, 1.0f, 1.0f});
+  overlay.AddFreeSpaceMesh(mesh, T_W_L);
+  overlay.Validate();
+  ASSERT_EQ(overlay.mesh_triangles.size(), 2u);  // the face on the viewpoint is left out
+  EXPECT_EQ(overlay.mesh_face_rgba[0][1], 0.85f);  // traversable: green
+  EXPECT_EQ(overlay.mesh_face_rgba[1][0], 0.9f);   // blocked: red
+  EXPECT_EQ(overlay.mesh_vertices_W[2], Vec3(11.0, 1.0, 2.0));
+  EXPECT_EQ(overlay.points[0].position_W, Vec3(11.0, 2.0, 5.0));
+  overlay.mesh_face_rgba.pop_back();
+  EXPECT_THROW(overlay.Validate(), std::invalid_argument);
+}
+
 TEST(RendererTest, WritePngRejectsInconsistentImages) {
   Image image;
   image.width = 4;
