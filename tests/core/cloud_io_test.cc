@@ -49,8 +49,15 @@ std::size_t PlyBodyOffset(const std::string& bytes) {
   return pos == std::string::npos ? std::string::npos : pos + std::strlen("end_header\n");
 }
 
+// The value a float field holds. Rounded through a volatile: GCC 12 at -O2 folds a double -> float ->
+// double round trip of constants away.
 Vec3 AsFloat(const Vec3& p) {
-  return Vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  Vec3 out;
+  for (int k = 0; k < 3; ++k) {
+    volatile float f = static_cast<float>(p[k]);
+    out[k] = f;
+  }
+  return out;
 }
 
 void ExpectPointsEq(const Points& expected, const Points& actual) {
