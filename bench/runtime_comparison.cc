@@ -205,7 +205,7 @@ int Run(Options o) {
   for (std::size_t i = 0; i < methods.size(); ++i) {
     const SampleStats& s = stats[i];
     const double ratio = ovpc_mean > 0.0 ? s.mean / ovpc_mean : 0.0;
-    std::printf("| %s | %.2f ± %.2f | %.2f | %.2f | %.2f | %.2f | %.2f× |\n",
+    std::printf("| %s | %.2f ± %.2f | %.2f | %.2f | %.2f | %.2f | %.3g× |\n",
                 methods[i].name.c_str(), s.mean, s.sd, s.median, s.p95, s.min, s.max, ratio);
     char buffer[256];
     std::snprintf(buffer, sizeof(buffer), "%s,%zu,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,",

@@ -1,5 +1,6 @@
 #include "ovpc/bench/normals_experiment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -129,6 +130,10 @@ double AngularErrorDeg(const Vec3& estimate, const Vec3& truth) {
   }
   // atan2 of the sine and cosine parts stays accurate for angles near 0 and 180 degrees.
   return RadToDeg(std::atan2(estimate.cross(truth).norm(), estimate.dot(truth)));
+}
+
+double UnorientedDeg(double oriented_error_deg) {
+  return std::min(oriented_error_deg, 180.0 - oriented_error_deg);
 }
 
 std::vector<double> MethodErrors::Degrees() const {

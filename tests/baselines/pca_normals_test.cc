@@ -53,8 +53,10 @@ TEST(PcaNormalsTest, NormalsAreFlippedTowardsTheViewpoint) {
   for (const Vec3& n : below.normals) ASSERT_NEAR(n.z(), -1.0, 1e-9);
   const PcaNormals above = EstimatePcaNormals(points, Vec3(0.3, 0.0, 2.0), PcaNormalsConfig{});
   for (const Vec3& n : above.normals) ASSERT_NEAR(n.z(), 1.0, 1e-9);
-  EXPECT_TRUE(FlipTowardsViewpoint(Vec3::UnitZ(), Vec3::Zero(), Vec3(0, 0, -1)).isApprox(-Vec3::UnitZ()));
-  EXPECT_TRUE(FlipTowardsViewpoint(Vec3::UnitZ(), Vec3::Zero(), Vec3(0, 0, 1)).isApprox(Vec3::UnitZ()));
+  EXPECT_TRUE(FlipTowardsViewpoint(Vec3::UnitZ(), Vec3::Zero(), Vec3(0, 0, -1))
+                  .isApprox(-Vec3::UnitZ()));
+  EXPECT_TRUE(FlipTowardsViewpoint(Vec3::UnitZ(), Vec3::Zero(), Vec3(0, 0, 1))
+                  .isApprox(Vec3::UnitZ()));
 }
 
 TEST(PcaNormalsTest, NoisyPlaneErrorShrinksWithTheRadius) {

@@ -188,6 +188,14 @@ TEST(AngularErrorTest, KnownAngles) {
               RadToDeg(tiny), 1e-15);
 }
 
+TEST(AngularErrorTest, UnorientedFoldsFlippedNormals) {
+  EXPECT_DOUBLE_EQ(UnorientedDeg(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(UnorientedDeg(30.0), 30.0);
+  EXPECT_DOUBLE_EQ(UnorientedDeg(90.0), 90.0);
+  EXPECT_DOUBLE_EQ(UnorientedDeg(170.0), 10.0);
+  EXPECT_DOUBLE_EQ(UnorientedDeg(AngularErrorDeg(-Vec3::UnitZ(), Vec3::UnitZ())), 0.0);
+}
+
 TEST(AngularErrorTest, NoNormalIsNaN) {
   EXPECT_TRUE(std::isnan(AngularErrorDeg(Vec3::Zero(), Vec3::UnitZ())));
   const double nan = std::numeric_limits<double>::quiet_NaN();

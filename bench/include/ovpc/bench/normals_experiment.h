@@ -70,6 +70,10 @@ SlopeScene MakeSlopeScene(double alpha_rad, const SlopeSceneConfig& config, std:
 /// unit. NaN when the estimate is zero or not finite ("no normal").
 double AngularErrorDeg(const Vec3& estimate, const Vec3& truth);
 
+/// The error of a normal taken as an unoriented line: min(e, 180 - e) for an oriented error e in
+/// degrees (a flipped normal counts as correct). A diagnostic: the experiment's metric is oriented.
+double UnorientedDeg(double oriented_error_deg);
+
 /// A per-point angular error.
 struct PointError {
   std::size_t index = 0;  ///< into SlopeScene::points
