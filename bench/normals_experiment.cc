@@ -53,6 +53,7 @@ struct Options {
   double pca_radius_m = 0.3;
   double gamma = OvpcMapper::Config{}.ghpr.gamma;
   bool unoriented = false;
+  OvpcInputFilter filter;
 };
 
 /// One CSV row: the error statistics of one method at one alpha.
@@ -131,7 +132,7 @@ OverAlpha Average(const MethodSeries& series) {
   return a;
 }
 
-bool WritePointErrors(const std::string& path, const SlopeScene& scene,
+bool WritePointErrors(const std::string& path,
                       const std::vector<std::pair<std::string, const MethodErrors*>>& methods) {
   std::ofstream out(path);
   if (!out) return false;
@@ -139,10 +140,10 @@ bool WritePointErrors(const std::string& path, const SlopeScene& scene,
   char buffer[256];
   for (const auto& [name, errors] : methods) {
     for (const PointError& e : errors->errors) {
-      const Vec3& p = scene.points[e.index];
+      const Vec3& p = e.position;
       std::snprintf(buffer, sizeof(buffer), "%s,%zu,%.4f,%.4f,%.4f,%s,%.6f\n", name.c_str(),
                     e.index, p.x(), p.y(), p.z(),
-                    scene.surface[e.index] == Surface::kGround ? "ground" : "slope", e.error_deg);
+                    e.surface == Surface::kGround ? "ground" : "slope", e.error_deg);
       out << buffer;
     }
   }
@@ -169,6 +170,11 @@ int Run(const Options& o) {
     }
     use_pcl = true;
     also_eigen = o.pca == "both";
+  }
+  if (o.filter.voxel_size_m < 0.0 || o.filter.min_hits < 1) {
+    std::fprintf(stderr,
+                 "ovpc_normals_experiment: need --ovpc-voxel >= 0 and --ovpc-min-hits >= 1\n");
+    return 2;
   }
   try {
     o.scene.Validate();
@@ -216,14 +222,17 @@ int Run(const Options& o) {
   MethodSeries pca_eigen{"pca_eigen", "normals_pca_eigen.csv", {}, 0.0};
   int ovpc_failures = 0;
   std::size_t points_total = 0;
+  std::size_t ovpc_points_total = 0;
   const Clock::time_point start = Clock::now();
   for (int k = 0; k < num_alphas; ++k) {
     // Rounded to 1e-6 deg so that 0.1 deg steps print and compare cleanly.
     const double alpha_deg = std::round((o.alpha_min_deg + k * o.step_deg) * 1e6) / 1e6;
     const std::uint64_t seed = TrialSeed(o.seed, static_cast<std::uint64_t>(k));
-    const NormalsTrial trial = RunNormalsTrial(alpha_deg, o.scene, mapper, primary, seed);
+    const NormalsTrial trial =
+        RunNormalsTrial(alpha_deg, o.scene, mapper, primary, seed, o.filter);
     if (trial.ovpc_status != GhprStatus::kOk) ++ovpc_failures;
     points_total += trial.points;
+    ovpc_points_total += trial.ovpc_input_points;
     ovpc.rows.push_back(MakeRow(alpha_deg, trial.ovpc, trial.points, o.unoriented));
     ovpc.total_ms += trial.ovpc.ms;
     pca.rows.push_back(MakeRow(alpha_deg, trial.pca, trial.points, o.unoriented));
@@ -246,7 +255,7 @@ int Run(const Options& o) {
         std::vector<std::pair<std::string, const MethodErrors*>> methods = {
             {"ovpc", &trial.ovpc}, {"pca", &trial.pca}};
         if (also_eigen) methods.emplace_back("pca_eigen", &eigen_errors);
-        if (!WritePointErrors(o.points_csv, scene, methods)) {
+        if (!WritePointErrors(o.points_csv, methods)) {
           std::fprintf(stderr, "ovpc_normals_experiment: cannot write %s\n", o.points_csv.c_str());
           return 1;
         }
@@ -293,8 +302,14 @@ int Run(const Options& o) {
   std::printf("metric:  %s angle between the estimated and the true normal\n",
               o.unoriented ? "UNORIENTED (diagnostic)" : "oriented");
   std::printf("methods: ovpc = OVPC vertex normals (OvpcMapper defaults, gamma %.3g); pca = %s, "
-              "radius %.2f m, flipped towards the viewpoint\n\n",
+              "radius %.2f m, flipped towards the viewpoint\n",
               mapper.config().ghpr.gamma, pca_name.c_str(), o.pca_radius_m);
+  if (o.filter.voxel_size_m > 0.0) {
+    std::printf("OVPC input: VOXEL-FILTERED (diagnostic), %.3f m voxels with >= %d points; "
+                "about %zu points per slope\n",
+                o.filter.voxel_size_m, o.filter.min_hits, ovpc_points_total / num_alphas);
+  }
+  std::printf("\n");
   std::printf("%-12s %16s %16s %16s %16s %9s %12s\n", "method", "mean of means", "mean of sds",
               "mean of medians", "mean of p95", "> 90 deg", "time/slope");
   nlohmann::json summary;
@@ -328,6 +343,8 @@ int Run(const Options& o) {
   summary["seed"] = o.seed;
   summary["gamma"] = o.gamma;
   summary["metric"] = o.unoriented ? "unoriented" : "oriented";
+  summary["ovpc_voxel_m"] = o.filter.voxel_size_m;
+  summary["ovpc_min_hits"] = o.filter.min_hits;
   summary["alpha_min_deg"] = o.alpha_min_deg;
   summary["alpha_max_deg"] = o.alpha_max_deg;
   summary["step_deg"] = o.step_deg;
@@ -386,6 +403,13 @@ int main(int argc, char** argv) {
   app.add_option("--points-csv", o.points_csv,
                  "Also write every point's error at --points-alpha to this CSV");
   app.add_option("--points-alpha", o.points_alpha_deg, "Slope of the --points-csv dump, degrees");
+  app.add_option("--ovpc-voxel", o.filter.voxel_size_m,
+                 "Diagnostic: voxel-filter OVPC's input first (the point cloud buffer's filter), "
+                 "voxel edge in m; 0 = off (the protocol)")
+      ->capture_default_str();
+  app.add_option("--ovpc-min-hits", o.filter.min_hits,
+                 "Points a voxel needs to be kept with --ovpc-voxel")
+      ->capture_default_str();
   app.add_flag("--unoriented", o.unoriented,
                "Diagnostic: score normals as unoriented lines, min(e, 180 - e); n_over_90 still "
                "counts the flipped ones");

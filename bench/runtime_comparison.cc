@@ -22,8 +22,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -125,6 +125,7 @@ int Run(Options o) {
                        return Sample{c, 0, MsSince(start, stop), map.num_nonempty()};
                      }, {}});
 
+  const double load_start = LoadAverage1Min();
   // Warm-up: caches, page faults and lazy initialisation stay out of the samples.
   for (Method& m : methods) m.run(0);
   const int total = o.clouds * o.reps;
@@ -144,6 +145,7 @@ int Run(Options o) {
     }
   }
   const double wall_s = MsSince(t, Clock::now()) / 1000.0;
+  const double load_end = LoadAverage1Min();
 
   // --- Samples ---
   int exit_code = 0;
@@ -187,7 +189,10 @@ int Run(Options o) {
 
   std::printf("Runtime comparison (paper, \"Runtime benchmarking\"): one map from one buffered "
               "cloud\n");
-  std::printf("machine: %s; build: %s; one thread\n", MachineName().c_str(), BuildType().c_str());
+  std::printf("machine: %s; build: %s; one thread; load average %.2f at the start, %.2f at "
+              "the end (%u hardware threads)\n",
+              MachineName().c_str(), BuildType().c_str(), load_start, load_end,
+              std::thread::hardware_concurrency());
   std::printf("clouds:  %d generated outdoor clouds, %zu..%zu points, seeds %llu..%llu; %d reps "
               "each; %d samples per method\n",
               o.clouds, min_points, max_points, static_cast<unsigned long long>(o.seed),
@@ -243,6 +248,8 @@ int Run(Options o) {
                               {"mahalanobis_threshold", em_config.mahalanobis_threshold}};
   summary["ovpc_failures"] = ovpc_failures;
   summary["wall_s"] = wall_s;
+  summary["load_average_start"] = load_start;
+  summary["load_average_end"] = load_end;
   const std::string json_path = (dir / "runtime_summary.json").string();
   std::ofstream json(json_path);
   json << summary.dump(2) << "\n";

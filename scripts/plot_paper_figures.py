@@ -108,7 +108,7 @@ def plot_runtime(runtime_dir, out_path):
                 label=f"{label}: {t.mean():.2f} ± {t.std(ddof=1) if len(t) > 1 else 0.0:.2f} ms")
     ax.set_xscale("log")
     ax.set_xlabel("time per cloud [ms] (log scale)")
-    ax.set_ylabel("clouds")
+    ax.set_ylabel("runs")
     n = len(next(iter(times.values())))
     ax.set_title(f"Map building from one buffered cloud ({n} runs per method)", fontsize=11)
     ax.grid(True, which="both", linewidth=0.3)

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ovpc/bench/report.h"
+#include "ovpc/core/point_cloud_buffer.h"
 
 namespace ovpc::bench {
 namespace {
@@ -159,7 +160,31 @@ MethodErrors OvpcErrors(const SlopeScene& scene, const OvpcMap& map) {
     if (std::isnan(error)) {
       ++out.without_normal;
     } else {
-      out.errors.push_back({i, error});
+      out.errors.push_back({i, error, scene.points[i], scene.surface[i]});
+    }
+  }
+  return out;
+}
+
+Surface SurfaceAt(const Vec3& position, const SlopeSceneConfig& config) {
+  return position.x() < config.slope_start_x_m ? Surface::kGround : Surface::kSlope;
+}
+
+MethodErrors OvpcErrorsByPosition(const SlopeScene& scene, const SlopeSceneConfig& config,
+                                  const OvpcMap& map) {
+  MethodErrors out;
+  if (!map.ok()) return out;
+  const Points& points = map.cloud.points();
+  const std::vector<Vec3>& normals = map.cloud.normals();
+  out.errors.reserve(normals.size());
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    const Surface surface = SurfaceAt(points[v], config);
+    const Vec3& truth = surface == Surface::kGround ? scene.ground_normal : scene.slope_normal;
+    const double error = AngularErrorDeg(normals[v], truth);
+    if (std::isnan(error)) {
+      ++out.without_normal;
+    } else {
+      out.errors.push_back({v, error, points[v], surface});
     }
   }
   return out;
@@ -176,7 +201,7 @@ MethodErrors PointNormalErrors(const SlopeScene& scene, const baselines::PcaNorm
     if (std::isnan(error)) {
       ++out.without_normal;
     } else {
-      out.errors.push_back({i, error});
+      out.errors.push_back({i, error, scene.points[i], scene.surface[i]});
     }
   }
   return out;
@@ -184,18 +209,22 @@ MethodErrors PointNormalErrors(const SlopeScene& scene, const baselines::PcaNorm
 
 NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_config,
                              const OvpcMapper& mapper, const NormalEstimator& pca,
-                             std::uint64_t seed) {
+                             std::uint64_t seed, const OvpcInputFilter& filter) {
   NormalsTrial trial;
   trial.alpha_deg = alpha_deg;
   trial.seed = seed;
   const SlopeScene scene = MakeSlopeScene(DegToRad(alpha_deg), scene_config, seed);
   trial.points = scene.points.size();
+  const bool filtered = filter.voxel_size_m > 0.0;
 
   Clock::time_point start = Clock::now();
-  const OvpcMap map = mapper.Update(scene.points, scene.viewpoint);
+  const Points ovpc_input =
+      filtered ? VoxelFilter(scene.points, filter.voxel_size_m, filter.min_hits) : Points{};
+  const OvpcMap map = mapper.Update(filtered ? ovpc_input : scene.points, scene.viewpoint);
   const double ovpc_ms = MsSince(start, Clock::now());
+  trial.ovpc_input_points = filtered ? ovpc_input.size() : scene.points.size();
   trial.ovpc_status = map.status;
-  trial.ovpc = OvpcErrors(scene, map);
+  trial.ovpc = filtered ? OvpcErrorsByPosition(scene, scene_config, map) : OvpcErrors(scene, map);
   trial.ovpc.ms = ovpc_ms;
 
   start = Clock::now();
@@ -204,6 +233,7 @@ NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_con
   trial.pca = PointNormalErrors(scene, normals);
   trial.pca.ms = pca_ms;
 
+  if (filtered) return trial;
   // PCA restricted to the points OVPC evaluated (visible, with a vertex normal or without).
   std::vector<std::uint8_t> visible(scene.points.size(), 0);
   for (const int source : map.mesh.source_index) {

@@ -21,6 +21,13 @@ std::string MachineName() {
   return "unknown";
 }
 
+double LoadAverage1Min() {
+  std::ifstream loadavg("/proc/loadavg");
+  double load = -1.0;
+  if (!(loadavg >> load)) return -1.0;
+  return load;
+}
+
 std::string BuildType() {
 #if defined(OVPC_BUILD_TYPE)
   const std::string cmake_type = OVPC_BUILD_TYPE;

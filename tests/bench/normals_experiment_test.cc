@@ -265,5 +265,24 @@ TEST(NormalsTrialTest, NoisyTrialEvaluatesVisiblePointsAndAllPoints) {
   EXPECT_LT(pca.median, 20.0);
 }
 
+TEST(NormalsTrialTest, VoxelFilteredInputIsScoredByTheSurfaceUnderEachVertex) {
+  const SlopeSceneConfig config = Tiny();
+  EXPECT_EQ(SurfaceAt(Vec3(0.99, 0.0, 0.0), config), Surface::kGround);
+  EXPECT_EQ(SurfaceAt(Vec3(1.0, 0.0, 0.0), config), Surface::kSlope);
+  const OvpcMapper mapper;
+  OvpcInputFilter filter;
+  filter.voxel_size_m = 0.2;
+  filter.min_hits = 1;
+  const NormalsTrial trial = RunNormalsTrial(25.0, config, mapper, EigenPca(), 3, filter);
+  ASSERT_EQ(trial.ovpc_status, GhprStatus::kOk);
+  EXPECT_LT(trial.ovpc_input_points, trial.points);
+  ASSERT_FALSE(trial.ovpc.errors.empty());
+  for (const PointError& e : trial.ovpc.errors) {
+    ASSERT_EQ(e.surface, SurfaceAt(e.position, config));
+  }
+  EXPECT_TRUE(trial.pca_visible.errors.empty());  // centroids are not points of the cloud
+  EXPECT_EQ(trial.pca.errors.size() + trial.pca.without_normal, trial.points);
+}
+
 }  // namespace
 }  // namespace ovpc::bench

@@ -76,8 +76,10 @@ double UnorientedDeg(double oriented_error_deg);
 
 /// A per-point angular error.
 struct PointError {
-  std::size_t index = 0;  ///< into SlopeScene::points
+  std::size_t index = 0;  ///< into the evaluated cloud (SlopeScene::points unless filtered)
   double error_deg = 0.0;
+  Vec3 position = Vec3::Zero();
+  Surface surface = Surface::kGround;  ///< whose normal was the truth
 };
 
 /// Errors of one method on one scene.
@@ -92,16 +94,28 @@ struct MethodErrors {
 /// the viewpoint.
 using NormalEstimator = std::function<baselines::PcaNormals(const Points&, const Vec3&)>;
 
+/// Optional preprocessing of the OVPC input with the point cloud buffer's voxel filter
+/// (VoxelFilter: one centroid per voxel holding at least min_hits points). Off by default: the
+/// protocol gives OVPC the bundled cloud as it is. A diagnostic of how much the buffer's filter
+/// changes the figures; the PCA baseline always gets the unfiltered cloud.
+struct OvpcInputFilter {
+  double voxel_size_m = 0.0;  ///< <= 0: no filter
+  int min_hits = 2;
+};
+
 struct NormalsTrial {
   double alpha_deg = 0.0;
   std::uint64_t seed = 0;
   std::size_t points = 0;
+  std::size_t ovpc_input_points = 0;  ///< points given to OVPC (fewer when filtered)
   GhprStatus ovpc_status = GhprStatus::kOk;
   /// OVPC: the visible points (mesh vertices); the others have no vertex normal and are not
   /// evaluated. A visible point whose faces all touch the viewpoint has no normal.
   MethodErrors ovpc;
   MethodErrors pca;          ///< PCA on every point of the bundled cloud
-  MethodErrors pca_visible;  ///< the same PCA errors restricted to OVPC's visible points
+  /// The same PCA errors restricted to OVPC's visible points (empty when OVPC's input was
+  /// filtered: its points are then voxel centroids, not points of the cloud).
+  MethodErrors pca_visible;
 };
 
 /// Errors of vertex normals of `map` (built from `scene.points`, which the mapper must have used
@@ -109,14 +123,24 @@ struct NormalsTrial {
 /// @throws std::logic_error if the mapper dropped points (indices would not match).
 MethodErrors OvpcErrors(const SlopeScene& scene, const OvpcMap& map);
 
+/// The surface under a position that is not a sample (a voxel centroid): the slope from
+/// slope_start_x_m on, the ground before it.
+Surface SurfaceAt(const Vec3& position, const SlopeSceneConfig& config);
+
+/// Errors of vertex normals of `map` built from any cloud of the scene (e.g. filtered), each
+/// against the normal of the surface under the vertex (SurfaceAt).
+MethodErrors OvpcErrorsByPosition(const SlopeScene& scene, const SlopeSceneConfig& config,
+                                  const OvpcMap& map);
+
 /// Errors of per-point normals against the truth.
 MethodErrors PointNormalErrors(const SlopeScene& scene, const baselines::PcaNormals& normals);
 
-/// One slope: builds the scene from `seed`, runs the OVPC update from the viewpoint and the PCA
-/// estimator, and returns both methods' errors.
+/// One slope: builds the scene from `seed`, runs the OVPC update from the viewpoint (on the
+/// bundled cloud, or on its voxel-filtered version if `filter` says so) and the PCA estimator, and
+/// returns both methods' errors.
 NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_config,
                              const OvpcMapper& mapper, const NormalEstimator& pca,
-                             std::uint64_t seed);
+                             std::uint64_t seed, const OvpcInputFilter& filter = {});
 
 /// The seed of trial `index` from the run's seed (SplitMix64 of both), so trials are independent
 /// and any one of them can be re-run alone.

@@ -16,6 +16,10 @@ inline double MsSince(Clock::time_point start, Clock::time_point stop) {
 /// The CPU model from /proc/cpuinfo, or "unknown".
 std::string MachineName();
 
+/// The 1-minute load average from /proc/loadavg, or a negative value when unknown: timings on a
+/// machine shared with other work are reported with it.
+double LoadAverage1Min();
+
 /// The CMake build type and whether the benchmark code was optimised and built with NDEBUG (timings
 /// of an unoptimised build are flagged as not meaningful).
 std::string BuildType();
