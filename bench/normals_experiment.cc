@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -415,5 +416,13 @@ int main(int argc, char** argv) {
                "counts the flipped ones");
   app.add_flag("-q,--quiet", o.quiet, "No progress lines");
   CLI11_PARSE(app, argc, argv);
-  return ovpc::bench::Run(o);
+  try {
+    return ovpc::bench::Run(o);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s: %s\n", "ovpc_normals_experiment", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: failed: %s\n", "ovpc_normals_experiment", e.what());
+    return 1;
+  }
 }

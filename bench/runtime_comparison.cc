@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -279,5 +280,13 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", o.quick, "Smoke run: 5 clouds, 1 rep");
   app.add_flag("-q,--quiet", o.quiet, "No progress lines");
   CLI11_PARSE(app, argc, argv);
-  return ovpc::bench::Run(o);
+  try {
+    return ovpc::bench::Run(o);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s: %s\n", "ovpc_runtime_comparison", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: failed: %s\n", "ovpc_runtime_comparison", e.what());
+    return 1;
+  }
 }
