@@ -414,16 +414,16 @@ void RunSequence(const Options& options, std::vector<Row>* rows) {
     fast_ms.push_back(run.run.ms);
     reference_ms.push_back(RunOvpc(reference, cloud).run.ms);
   }
-  const Stats fast = ComputeStats(fast_ms), ref = ComputeStats(reference_ms);
+  const SampleStats fast = Summarize(fast_ms), ref = Summarize(reference_ms);
   std::printf("\nSequence: %zu consecutive clouds (%zu..%zu points), one update per scan\n", clouds.size(),
               min_points, max_points);
   std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f%s\n", "ovpc",
-              fast.median_ms, fast.p90_ms, fast.p99_ms, fast.max_ms, fast.p99_ms / fast.median_ms,
+              fast.median, fast.p90, fast.p99, fast.max, fast.p99 / fast.median,
               failures ? "  (some updates failed)" : "");
   std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f\n",
-              "ovpc (CGAL quickhull)", ref.median_ms, ref.p90_ms, ref.p99_ms, ref.max_ms, ref.p99_ms / ref.median_ms);
+              "ovpc (CGAL quickhull)", ref.median, ref.p90, ref.p99, ref.max, ref.p99 / ref.median);
   rows->push_back(Row{max_points, "sequence.ovpc", false, fast, 1.0, clouds.size(), "clouds"});
-  rows->push_back(Row{max_points, "sequence.ovpc_cgal_hull", false, ref, ref.median_ms / fast.median_ms,
+  rows->push_back(Row{max_points, "sequence.ovpc_cgal_hull", false, ref, ref.median / fast.median,
                       clouds.size(), "clouds"});
 
   if (options.soak <= 0) return;
