@@ -1,10 +1,11 @@
 // Map-update benchmark: the OVPC update against a plain GHPR hull (CGAL convex_hull_3 on all
 // points) and OctoMap insertPointCloud at 0.1, 0.2 and 0.3 m, on the same generated clouds.
 //
-// Clouds: ovpc::synth::MakeOutdoorCloud(size, seed + i) for i < kCloudsPerSize: a VLP-16 tilted
-// 45 deg on a base spinning at 0.5 Hz, 1.88 m above an outdoor scene (20 deg ramp to a plateau,
-// carport roof on posts, poles, trees), 25 scans buffered into one cloud with the viewpoint at the
-// origin. Every method sees exactly the same clouds: repetition r uses cloud r % kCloudsPerSize.
+// Clouds: MakeBenchClouds({size}, seed, kCloudsPerSize), i.e. MakeOutdoorCloud(size, seed + i):
+// a VLP-16 tilted 45 deg on a base spinning at 0.5 Hz, 1.88 m above an outdoor scene (20 deg
+// ramp to a plateau, carport roof on posts, poles, trees), 25 scans buffered into one cloud with
+// the viewpoint at the origin. Every method sees exactly the same clouds: repetition r uses cloud
+// r % kCloudsPerSize.
 //
 // Timing: std::chrono::steady_clock around the measured call only, the same way for every method.
 // Input conversion to a library's own point type (octomap::Pointcloud), the construction of empty
@@ -26,6 +27,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -34,6 +36,10 @@
 #include <CGAL/version.h>
 #include <octomap/octomap.h>
 
+#include "ovpc/bench/octomap_peer.h"
+#include "ovpc/bench/outdoor_clouds.h"
+#include "ovpc/bench/report.h"
+#include "ovpc/bench/stats.h"
 #include "ovpc/core/ovpc_mapper.h"
 #include "ovpc/core/point_cloud_buffer.h"
 #include "ovpc/core/synthetic_scene.h"
@@ -41,7 +47,6 @@
 namespace ovpc::bench {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point_3 = Kernel::Point_3;
 using HullMesh = CGAL::Surface_mesh<Point_3>;
@@ -54,10 +59,6 @@ constexpr int kCloudsPerSize = 5;
 constexpr double kCaseBudget_s = 30.0;
 constexpr int kMinReps = 3;
 constexpr double kOctomapResolutions_m[] = {0.1, 0.2, 0.3};
-
-double MsSince(Clock::time_point start, Clock::time_point stop) {
-  return std::chrono::duration<double, std::milli>(stop - start).count();
-}
 
 // The clock around each measured call: wall time by default; with --cpu-time the calling thread's
 // CPU time, which leaves out time the thread spent preempted on a shared machine (every measured
@@ -209,48 +210,6 @@ int ParseArgs(int argc, char** argv, Options* options) {
   return 0;
 }
 
-// --- Statistics --------------------------------------------------------------------------------
-
-struct Stats {
-  int reps = 0;
-  double median_ms = 0.0;
-  double p90_ms = 0.0;
-  double p99_ms = 0.0;
-  double mean_ms = 0.0;
-  double sd_ms = 0.0;  ///< sample standard deviation (0 for one sample)
-  double min_ms = 0.0;
-  double max_ms = 0.0;
-};
-
-/// Percentile by linear interpolation between the closest ranks (the "R-7" definition): with few
-/// samples p99 is close to the maximum.
-double Percentile(const std::vector<double>& sorted, double p) {
-  const double h = p * static_cast<double>(sorted.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
-}
-
-Stats ComputeStats(std::vector<double> samples_ms) {
-  Stats s;
-  if (samples_ms.empty()) return s;
-  std::sort(samples_ms.begin(), samples_ms.end());
-  const double n = static_cast<double>(samples_ms.size());
-  s.reps = static_cast<int>(samples_ms.size());
-  s.median_ms = Percentile(samples_ms, 0.5);
-  s.p90_ms = Percentile(samples_ms, 0.9);
-  s.p99_ms = Percentile(samples_ms, 0.99);
-  s.min_ms = samples_ms.front();
-  s.max_ms = samples_ms.back();
-  double sum = 0.0;
-  for (const double x : samples_ms) sum += x;
-  s.mean_ms = sum / n;
-  double sum_sq = 0.0;
-  for (const double x : samples_ms) sum_sq += (x - s.mean_ms) * (x - s.mean_ms);
-  s.sd_ms = samples_ms.size() > 1 ? std::sqrt(sum_sq / (n - 1.0)) : 0.0;
-  return s;
-}
-
 // --- The measured methods ----------------------------------------------------------------------
 
 /// One timed run: the milliseconds of the measured call and a size of its result, for a sanity
@@ -304,21 +263,12 @@ Run RunPlainHull(const Points& points, double gamma) {
 }
 
 Run RunOctomap(const octomap::Pointcloud& cloud, double resolution_m) {
+  // Timed here rather than by InsertIntoFreshOctree so that --cpu-time applies to OctoMap too.
   auto tree = std::make_unique<octomap::OcTree>(resolution_m);
   const double start = NowMs();
   tree->insertPointCloud(cloud, octomap::point3d(0.0f, 0.0f, 0.0f));
   const double stop = NowMs();
   return {stop - start, tree->size()};
-}
-
-octomap::Pointcloud ToOctomap(const Points& points) {
-  octomap::Pointcloud cloud;
-  cloud.reserve(points.size());
-  for (const Vec3& p : points) {
-    cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                    static_cast<float>(p.z()));
-  }
-  return cloud;
 }
 
 // --- Results -----------------------------------------------------------------------------------
@@ -327,7 +277,7 @@ struct Row {
   std::size_t size = 0;
   std::string method;  ///< "ovpc", "cgal_hull", "octomap_0.1", ... or "ovpc.<stage>"
   bool is_stage = false;
-  Stats stats;
+  SampleStats stats;
   double ratio = 0.0;        ///< median / median of the OVPC update (wall clock) at this size
   std::size_t output = 0;    ///< result size on the first cloud (see Run::output)
   std::string output_what;   ///< what `output` counts
@@ -339,66 +289,6 @@ std::string OctomapName(double resolution_m) {
   return buffer;
 }
 
-std::string MachineName() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(cpuinfo, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const std::size_t colon = line.find(':');
-      if (colon != std::string::npos) {
-        std::string name = line.substr(colon + 1);
-        name.erase(0, name.find_first_not_of(" \t"));
-        return name;
-      }
-    }
-  }
-  return "unknown";
-}
-
-std::string BuildType() {
-#if defined(OVPC_BUILD_TYPE)
-  const std::string cmake_type = OVPC_BUILD_TYPE;
-#else
-  const std::string cmake_type;
-#endif
-#if defined(__OPTIMIZE__) && defined(NDEBUG)
-  const std::string flags = "optimised, NDEBUG";
-#elif defined(__OPTIMIZE__)
-  const std::string flags = "optimised, assertions on";
-#else
-  const std::string flags = "unoptimised, assertions on: timings are not meaningful";
-#endif
-  return cmake_type.empty() ? flags : cmake_type + " (" + flags + ")";
-}
-
-std::string JsonEscape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", static_cast<unsigned>(c));
-      out += buffer;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-/// CSV fields are simple names and numbers; quote a field only if it needs it.
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
-
 bool WriteCsv(const std::string& path, const std::vector<Row>& rows) {
   std::ofstream out(path);
   if (!out) return false;
@@ -408,9 +298,9 @@ bool WriteCsv(const std::string& path, const std::vector<Row>& rows) {
   for (const Row& r : rows) {
     std::snprintf(buffer, sizeof(buffer),
                   "%zu,%s,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%zu,", r.size,
-                  CsvField(r.method).c_str(), r.is_stage ? "stage" : "method", r.stats.reps,
-                  r.stats.median_ms, r.stats.p90_ms, r.stats.p99_ms, r.stats.mean_ms,
-                  r.stats.sd_ms, r.stats.min_ms, r.stats.max_ms, r.ratio, r.output);
+                  CsvField(r.method).c_str(), r.is_stage ? "stage" : "method",
+                  static_cast<int>(r.stats.n), r.stats.median, r.stats.p90, r.stats.p99,
+                  r.stats.mean, r.stats.sd, r.stats.min, r.stats.max, r.ratio, r.output);
     out << buffer << CsvField(r.output_what) << "\n";
   }
   return static_cast<bool>(out);
@@ -436,8 +326,8 @@ bool WriteJson(const std::string& path, const Options& options, const std::strin
                   "\"sd_ms\": %.6f, \"min_ms\": %.6f, \"max_ms\": %.6f, \"ratio_to_ovpc\": %.6f, "
                   "\"output\": %zu, \"output_what\": \"%s\"}%s\n",
                   r.size, JsonEscape(r.method).c_str(), r.is_stage ? "stage" : "method",
-                  r.stats.reps, r.stats.median_ms, r.stats.p90_ms, r.stats.p99_ms,
-                  r.stats.mean_ms, r.stats.sd_ms, r.stats.min_ms, r.stats.max_ms, r.ratio,
+                  static_cast<int>(r.stats.n), r.stats.median, r.stats.p90, r.stats.p99,
+                  r.stats.mean, r.stats.sd, r.stats.min, r.stats.max, r.ratio,
                   r.output, JsonEscape(r.output_what).c_str(), i + 1 < rows.size() ? "," : "");
     out << buffer;
   }
@@ -469,9 +359,9 @@ std::vector<double> Millis(const std::vector<Run>& runs) {
   return ms;
 }
 
-void ReportProgress(std::size_t size, const std::string& method, const Stats& stats) {
+void ReportProgress(std::size_t size, const std::string& method, const SampleStats& stats) {
   std::fprintf(stderr, "[%6zu] %-14s %3d reps  median %9.2f ms\n", size, method.c_str(),
-               stats.reps, stats.median_ms);
+               static_cast<int>(stats.n), stats.median);
 }
 
 // --- Sequence: tail latency and memory over consecutive clouds -------------------------------
@@ -524,16 +414,16 @@ void RunSequence(const Options& options, std::vector<Row>* rows) {
     fast_ms.push_back(run.run.ms);
     reference_ms.push_back(RunOvpc(reference, cloud).run.ms);
   }
-  const Stats fast = ComputeStats(fast_ms), ref = ComputeStats(reference_ms);
+  const SampleStats fast = Summarize(fast_ms), ref = Summarize(reference_ms);
   std::printf("\nSequence: %zu consecutive clouds (%zu..%zu points), one update per scan\n", clouds.size(),
               min_points, max_points);
   std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f%s\n", "ovpc",
-              fast.median_ms, fast.p90_ms, fast.p99_ms, fast.max_ms, fast.p99_ms / fast.median_ms,
+              fast.median, fast.p90, fast.p99, fast.max, fast.p99 / fast.median,
               failures ? "  (some updates failed)" : "");
   std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f\n",
-              "ovpc (CGAL quickhull)", ref.median_ms, ref.p90_ms, ref.p99_ms, ref.max_ms, ref.p99_ms / ref.median_ms);
+              "ovpc (CGAL quickhull)", ref.median, ref.p90, ref.p99, ref.max, ref.p99 / ref.median);
   rows->push_back(Row{max_points, "sequence.ovpc", false, fast, 1.0, clouds.size(), "clouds"});
-  rows->push_back(Row{max_points, "sequence.ovpc_cgal_hull", false, ref, ref.median_ms / fast.median_ms,
+  rows->push_back(Row{max_points, "sequence.ovpc_cgal_hull", false, ref, ref.median / fast.median,
                       clouds.size(), "clouds"});
 
   if (options.soak <= 0) return;
@@ -569,11 +459,11 @@ int Main(int argc, char** argv) {
                  static_cast<unsigned long long>(options.seed + kCloudsPerSize - 1));
     std::vector<Points> clouds;
     std::vector<octomap::Pointcloud> octo_clouds;
-    for (int i = 0; i < kCloudsPerSize; ++i) {
-      clouds.push_back(synth::MakeOutdoorCloud(size, options.seed + static_cast<std::uint64_t>(i)));
+    for (BenchCloud& cloud : MakeBenchClouds({size}, options.seed, kCloudsPerSize)) {
+      clouds.push_back(std::move(cloud.points));
       octo_clouds.push_back(ToOctomap(clouds.back()));
       if (clouds.back().size() != size) {
-        std::fprintf(stderr, "[%6zu] note: cloud %d has %zu points\n", size, i,
+        std::fprintf(stderr, "[%6zu] note: cloud %zu has %zu points\n", size, clouds.size() - 1,
                      clouds.back().size());
       }
     }
@@ -590,9 +480,9 @@ int Main(int argc, char** argv) {
       ++ovpc_failures;
       if (first_failure.empty()) first_failure = result.status;
     }
-    Row ovpc_row{size, "ovpc", false, ComputeStats(Millis(ovpc_runs)), 1.0,
+    Row ovpc_row{size, "ovpc", false, Summarize(Millis(ovpc_runs)), 1.0,
                  ovpc_runs.front().output, "visible points"};
-    const double ovpc_median_ms = ovpc_row.stats.median_ms;
+    const double ovpc_median_ms = ovpc_row.stats.median;
     ReportProgress(size, "ovpc", ovpc_row.stats);
     rows.push_back(ovpc_row);
 
@@ -607,17 +497,17 @@ int Main(int argc, char** argv) {
     for (const auto& [name, member] : stages) {
       std::vector<double> ms;
       for (const OvpcRun& result : ovpc_results) ms.push_back(result.timings.*member);
-      Row row{size, "ovpc." + name, true, ComputeStats(ms), 0.0, 0, ""};
-      row.ratio = ovpc_median_ms > 0.0 ? row.stats.median_ms / ovpc_median_ms : 0.0;
+      Row row{size, "ovpc." + name, true, Summarize(ms), 0.0, 0, ""};
+      row.ratio = ovpc_median_ms > 0.0 ? row.stats.median / ovpc_median_ms : 0.0;
       rows.push_back(row);
     }
 
     auto add_method = [&](const std::string& name, const std::string& output_what,
                           const std::function<Run(int)>& measure) {
       const std::vector<Run> runs = Repeat(options.reps, measure);
-      Row row{size, name, false, ComputeStats(Millis(runs)), 0.0, runs.front().output,
+      Row row{size, name, false, Summarize(Millis(runs)), 0.0, runs.front().output,
               output_what};
-      row.ratio = ovpc_median_ms > 0.0 ? row.stats.median_ms / ovpc_median_ms : 0.0;
+      row.ratio = ovpc_median_ms > 0.0 ? row.stats.median / ovpc_median_ms : 0.0;
       ReportProgress(size, name, row.stats);
       rows.push_back(row);
     };
@@ -663,8 +553,8 @@ int Main(int argc, char** argv) {
     char ratio[32];
     std::snprintf(ratio, sizeof(ratio), "%.2fx", r.ratio);
     std::printf("%7zu  %-12s %5d %10.3f %10.3f %10.3f %10.3f %9.3f  %-14s %zu %s\n", r.size,
-                r.method.c_str(), r.stats.reps, r.stats.median_ms, r.stats.p90_ms,
-                r.stats.p99_ms, r.stats.mean_ms, r.stats.sd_ms, ratio, r.output,
+                r.method.c_str(), static_cast<int>(r.stats.n), r.stats.median, r.stats.p90,
+                r.stats.p99, r.stats.mean, r.stats.sd, ratio, r.output,
                 r.output_what.c_str());
   }
 
@@ -676,7 +566,7 @@ int Main(int argc, char** argv) {
     for (const Row& r : rows) {
       if (r.size != size || !r.is_stage) continue;
       char cell[40];
-      std::snprintf(cell, sizeof(cell), "%.3f (%.0f%%)", r.stats.median_ms, 100.0 * r.ratio);
+      std::snprintf(cell, sizeof(cell), "%.3f (%.0f%%)", r.stats.median, 100.0 * r.ratio);
       std::printf(" %16s", cell);
     }
     std::printf("\n");

@@ -68,7 +68,8 @@ void AddCylinder(const Solid& solid, double tol_m, TriangleMesh* mesh) {
 
 void AddEllipsoid(const Solid& solid, double tol_m, TriangleMesh* mesh) {
   const Vec3& radii = solid.half_extents;
-  const int n_lon = SegmentsFor(radii.maxCoeff(), tol_m);
+  // Half the tolerance each way: a quad's centre deviates in both directions.
+  const int n_lon = SegmentsFor(radii.maxCoeff(), 0.5 * tol_m);
   const int n_lat = std::max(4, n_lon / 2);
   const int base = static_cast<int>(mesh->vertices.size());
   // Rings between the poles, then the two poles.
@@ -245,6 +246,47 @@ RayCaster::Hit RayCaster::Cast(const Vec3& origin, const Vec3& direction,
     hit.surface = impl_->surface_of_geometry[query.hit.geomID];
   }
   return hit;
+}
+
+void RayCaster::CastFan(const Vec3& origin, const Vec3* directions, int count, double max_range_m,
+                        Hit* hits) const {
+  if (count < 0 || count > kFanSize) {
+    throw std::invalid_argument("RayCaster::CastFan: count must be in [0, kFanSize]");
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(64) int valid[kFanSize];
+  alignas(64) RTCRayHit16 query;
+  const auto ox = static_cast<float>(origin.x());
+  const auto oy = static_cast<float>(origin.y());
+  const auto oz = static_cast<float>(origin.z());
+  for (int i = 0; i < kFanSize; ++i) {
+    const bool active = i < count;
+    valid[i] = active ? -1 : 0;
+    query.ray.org_x[i] = ox;
+    query.ray.org_y[i] = oy;
+    query.ray.org_z[i] = oz;
+    query.ray.dir_x[i] = active ? static_cast<float>(directions[i].x()) : 0.0f;
+    query.ray.dir_y[i] = active ? static_cast<float>(directions[i].y()) : 0.0f;
+    query.ray.dir_z[i] = active ? static_cast<float>(directions[i].z()) : 1.0f;
+    query.ray.tnear[i] = 0.0f;
+    query.ray.tfar[i] = static_cast<float>(max_range_m);
+    query.ray.time[i] = 0.0f;
+    query.ray.mask[i] = 0xFFFFFFFFu;
+    query.ray.id[i] = static_cast<unsigned>(i);
+    query.ray.flags[i] = 0;
+    query.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    query.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(valid, impl_->scene, &context, &query);
+  for (int i = 0; i < count; ++i) {
+    Hit hit;
+    if (query.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID) {
+      hit.range_m = query.ray.tfar[i];
+      hit.surface = impl_->surface_of_geometry[query.hit.geomID[i]];
+    }
+    hits[i] = hit;
+  }
 }
 
 }  // namespace ovpc::sim

@@ -114,6 +114,7 @@ struct Renderer::Impl {
   mjvScene scene;
   mjrContext con;
   mjvOption option;
+  mjData* pose_data = nullptr;  ///< the simulator's positions, kinematics brought up to date
   bool scene_made = false;
   bool con_made = false;
   int width = 0;
@@ -127,6 +128,7 @@ struct Renderer::Impl {
       eglDestroyContext(display, context);
     }
     if (scene_made) mjv_freeScene(&scene);
+    if (pose_data != nullptr) mj_deleteData(pose_data);
     // The display stays initialised: other renderers in the process may share it.
   }
 
@@ -180,6 +182,8 @@ Renderer::Renderer(const Simulator& sim) : impl_(std::make_unique<Impl>()) {
   }
   r.width = r.con.offWidth;
   r.height = r.con.offHeight;
+  r.pose_data = mj_makeData(m);
+  if (r.pose_data == nullptr) throw std::runtime_error("Renderer: mj_makeData failed");
   mjv_defaultOption(&r.option);
   r.option.geomgroup[2] = 0;  // the wheels' collision ellipsoids; their tyres are in group 1
 }
@@ -197,8 +201,14 @@ Image Renderer::Render(const ChaseCamera& camera, const Overlay& overlay) {
   Impl& r = *impl_;
   r.MakeCurrent();
   const mjModel* m = r.sim->model();
-  // mjv_updateScene only reads the data; its C signature is not const.
-  mjData* d = const_cast<mjData*>(r.sim->data());
+  // After mj_step the simulator's body poses are those before the step's integration; draw the
+  // current positions instead (the overlay is in the current frame too).
+  const mjData* sim_data = r.sim->data();
+  mjData* d = r.pose_data;
+  std::copy_n(sim_data->qpos, m->nq, d->qpos);
+  d->time = sim_data->time;
+  mj_kinematics(m, d);
+  mj_camlight(m, d);
 
   const Eigen::Isometry3d T_W_B = r.sim->T_W_B();
   const double heading = YawOf(T_W_B.linear());

@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,6 +15,10 @@ const char* const kWarningNames[mjNWARNING] = {
     "near-singular inertia matrix", "contact buffer full (raise PhysicsOptions::nconmax)",
     "constraint buffer full (raise PhysicsOptions::njmax)", "visual geom buffer full",
     "bad number in qpos", "bad number in qvel", "bad number in qacc", "bad number in ctrl"};
+
+/// MuJoCo's default warning handler also appends to MUJOCO_LOG.TXT in the working directory; the
+/// simulator reports warnings through Warnings() and stderr instead.
+void WarningToStderr(const char* message) { std::fprintf(stderr, "MuJoCo warning: %s\n", message); }
 
 int RequireId(const mjModel* m, int type, const char* name) {
   const int id = mj_name2id(m, type, name);
@@ -73,6 +78,7 @@ Simulator::Simulator(const Config& config)
       ray_caster_(std::make_unique<RayCaster>(terrain_, solids_, config.ray_caster)),
       mj_(std::make_unique<MuJoCo>()),
       odometry_(config.odometry) {
+  if (mju_user_warning == nullptr) mju_user_warning = WarningToStderr;  // unless the user set one
   const Eigen::Isometry3d T_W_B0 = RestingPose(terrain_, config_.vehicle, config_.start_x_m,
                                                config_.start_y_m, config_.start_yaw_rad);
   mj_->model = BuildWorldModel(terrain_, solids_, config_.vehicle, T_W_B0, config_.physics,

@@ -1,5 +1,6 @@
 #include "ovpc/sim/vlp16.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -11,7 +12,11 @@ namespace ovpc::sim {
 namespace {
 
 constexpr int kLasers = 16;
+static_assert(kLasers <= RayCaster::kFanSize, "a firing must fit in one packet");
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Firing and step times are sums of floating-point periods: times this close are equal (a firing
+// period is 55 us).
+constexpr double kTimeEpsilon_s = 1e-9;
 
 struct ElevationTable {
   double cos_e[kLasers];
@@ -100,11 +105,15 @@ void Vlp16Sim::StartScan() {
 std::vector<double> Vlp16Sim::CastFiring(const Eigen::Isometry3d& T_W_S, double azimuth_rad) const {
   std::vector<double> ranges(kLasers, kInf);
   const Vec3 origin_W = T_W_S.translation();
+  Vec3 dirs_W[kLasers];
+  RayCaster::Hit hits[kLasers];
   for (int laser = 0; laser < kLasers; ++laser) {
-    const Vec3 dir_W = T_W_S.linear() * BeamDirection(laser, azimuth_rad);
-    const RayCaster::Hit hit = caster_->Cast(origin_W, dir_W, config_.mount.max_range_m);
-    if (hit.hit() && hit.range_m >= config_.mount.min_range_m) {
-      ranges[static_cast<std::size_t>(laser)] = hit.range_m;
+    dirs_W[laser] = T_W_S.linear() * BeamDirection(laser, azimuth_rad);
+  }
+  caster_->CastFan(origin_W, dirs_W, kLasers, config_.mount.max_range_m, hits);
+  for (int laser = 0; laser < kLasers; ++laser) {
+    if (hits[laser].hit() && hits[laser].range_m >= config_.mount.min_range_m) {
+      ranges[static_cast<std::size_t>(laser)] = hits[laser].range_m;
     }
   }
   return ranges;
@@ -119,13 +128,20 @@ void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
   const double sigma = config_.range_sigma_m;
   const double extra_sigma = config_.extra_noise_sigma_m;
   Rng& rng = *rng_;
+  // Per-call parts of the per-firing pose (the same as InterpolatePose * mount.T_B_S, cheaper).
+  const Eigen::Quaterniond q_from(from.T_W_B.linear());
+  const Eigen::Quaterniond q_to(to.T_W_B.linear());
+  const double span_s = to.time_s - from.time_s;
+  const Eigen::Matrix3d R_tilt =
+      Eigen::AngleAxisd(mount.tilt_rad, Vec3::UnitX()).toRotationMatrix();
+  const Vec3 mast_B(0.0, 0.0, mount.height_m);
 
   for (;;) {
     const double t_s = t0_s_ + static_cast<double>(next_firing_) * firing_period_s_;
     const int j = static_cast<int>(next_firing_ % firings_per_scan_);
     // A scan ends where the next one's first firing would be.
     if (j == 0 && next_firing_ > 0 && current_.rays > 0) {
-      if (t_s > to.time_s) break;  // the end pose is not known yet
+      if (t_s > to.time_s + kTimeEpsilon_s) break;  // the end pose is not known yet
       current_.time_s = t_s;
       current_.T_W_S = InterpolatePose(from, to, t_s) * mount.T_B_S(t_s);
       const Eigen::Isometry3d T_S_W = current_.T_W_S.inverse();
@@ -134,17 +150,30 @@ void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
       if (completed != nullptr) completed->push_back(std::move(current_));
       StartScan();
     }
-    if (t_s >= to.time_s) break;
+    if (t_s >= to.time_s - kTimeEpsilon_s) break;  // belongs to the next interval
 
-    const Eigen::Isometry3d T_W_S = InterpolatePose(from, to, t_s) * mount.T_B_S(t_s);
-    const Eigen::Matrix3d& R_W_S = T_W_S.linear();
-    const Vec3 origin_W = T_W_S.translation();
+    const double s = span_s > 0.0 ? std::clamp((t_s - from.time_s) / span_s, 0.0, 1.0) : 1.0;
+    const Eigen::Matrix3d R_W_B = q_from.slerp(s, q_to).toRotationMatrix();
+    const Vec3 p_W_B = (1.0 - s) * from.T_W_B.translation() + s * to.T_W_B.translation();
+    const double yaw = 2.0 * kPi * std::fmod(mount.spin_hz * t_s, 1.0);
+    Eigen::Matrix3d R_spin = Eigen::Matrix3d::Identity();
+    R_spin(0, 0) = R_spin(1, 1) = std::cos(yaw);
+    R_spin(1, 0) = std::sin(yaw);
+    R_spin(0, 1) = -R_spin(1, 0);
+    const Eigen::Matrix3d R_W_S = R_W_B * (R_spin * R_tilt);
+    const Vec3 origin_W = p_W_B + R_W_B * mast_B;
     const double ca = cos_azimuth_[static_cast<std::size_t>(j)];
     const double sa = sin_azimuth_[static_cast<std::size_t>(j)];
+    // The 16 lasers of a firing leave together: one Embree packet.
+    Vec3 dirs_W[kLasers];
+    RayCaster::Hit hits[kLasers];
     for (int laser = 0; laser < kLasers; ++laser) {
-      const Vec3 dir_S(e.cos_e[laser] * ca, e.cos_e[laser] * sa, e.sin_e[laser]);
-      const Vec3 dir_W = R_W_S * dir_S;
-      const RayCaster::Hit hit = caster_->Cast(origin_W, dir_W, mount.max_range_m);
+      dirs_W[laser] = R_W_S * Vec3(e.cos_e[laser] * ca, e.cos_e[laser] * sa, e.sin_e[laser]);
+    }
+    caster_->CastFan(origin_W, dirs_W, kLasers, mount.max_range_m, hits);
+    for (int laser = 0; laser < kLasers; ++laser) {
+      const Vec3& dir_W = dirs_W[laser];
+      const RayCaster::Hit& hit = hits[laser];
       ++current_.rays;
       double range_m = hit.range_m;
       bool has_return = hit.hit();

@@ -72,8 +72,8 @@ void PhysicsOptions::Validate() const {
     if (!ok) throw std::invalid_argument(std::string("PhysicsOptions::") + what);
   };
   require(timestep_s > 0.0 && timestep_s <= 0.02, "timestep_s must be in (0, 0.02]");
-  require(nconmax >= 50, "nconmax must be >= 50");
-  require(njmax >= 200, "njmax must be >= 200");
+  require(nconmax >= 1, "nconmax must be >= 1");
+  require(njmax >= 1, "njmax must be >= 1");
   require(offscreen_width >= 16 && offscreen_width <= 8192, "offscreen_width out of [16, 8192]");
   require(offscreen_height >= 16 && offscreen_height <= 8192, "offscreen_height out of [16, 8192]");
 }

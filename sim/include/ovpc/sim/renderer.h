@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ovpc/core/free_space_mesh.h"
 #include "ovpc/core/types.h"
 #include "ovpc/sim/image.h"
 
@@ -41,6 +42,15 @@ struct Overlay {
   std::vector<Rgba> mesh_face_rgba;
   /// Hide overlay parts behind scene geometry (true), or draw them on top of everything.
   bool depth_test = true;
+
+  /// Adds points given in frame X at pose T_W_X.
+  void AddPoints(const Points& points_X, const Eigen::Isometry3d& T_W_X, const Rgba& rgba);
+  /// Adds an OVPC free-space mesh given in its local frame L at pose T_W_L: traversable faces in
+  /// `traversable_rgba`, the others in `blocked_rgba`; faces touching the viewpoint (the boundary
+  /// of what was seen) are left out.
+  void AddFreeSpaceMesh(const FreeSpaceMesh& mesh_L, const Eigen::Isometry3d& T_W_L,
+                        const Rgba& traversable_rgba = {0.2f, 0.85f, 0.2f, 0.55f},
+                        const Rgba& blocked_rgba = {0.9f, 0.15f, 0.1f, 0.55f});
 
   /// @throws std::invalid_argument if a face or colour index is inconsistent.
   void Validate() const;
