@@ -26,5 +26,6 @@ using Runner = std::function<int()>;
 Runner RegisterMesh(CLI::App& app);
 Runner RegisterSynth(CLI::App& app);
 Runner RegisterRun(CLI::App& app);
+Runner RegisterSuite(CLI::App& app);
 
 }  // namespace ovpc::apps

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   const Runner mesh = RegisterMesh(app);
   const Runner synth = RegisterSynth(app);
   const Runner run = RegisterRun(app);
+  const Runner suite = RegisterSuite(app);
   bool known = argc < 2 || argv[1][0] == '-';
   for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     known = known || sub->check_name(argv[1]);
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("mesh")) return mesh();
     if (app.got_subcommand("synth")) return synth();
     if (app.got_subcommand("run")) return run();
+    if (app.got_subcommand("suite")) return suite();
   } catch (const BadInput& e) {
     std::cerr << "ovpc: error: " << e.what() << "\n";
     return kExitBadInput;

@@ -16,6 +16,10 @@ void TraversabilityConfig::Validate() const {
     throw std::invalid_argument("TraversabilityConfig: delta_h_max must be > 0 m, got " +
                                 std::to_string(delta_h_max_m));
   }
+  if (!(noise_floor_m >= 0.0) || !(noise_floor_m < delta_h_max_m)) {
+    throw std::invalid_argument("TraversabilityConfig: noise_floor must be in [0, delta_h_max), got " +
+                                std::to_string(noise_floor_m));
+  }
   if (!up.allFinite() || std::abs(up.norm() - 1.0) > 1e-6) {
     throw std::invalid_argument("TraversabilityConfig: up must be a unit vector");
   }
@@ -43,7 +47,8 @@ void ClassifyFaces(const TraversabilityConfig& config, FreeSpaceMesh* mesh) {
     const double ha = a.dot(config.up), hb = b.dot(config.up), hc = c.dot(config.up);
     const double spread = std::max({ha, hb, hc}) - std::min({ha, hb, hc});
     // angle < alpha_max  <=>  cos(angle) > cos(alpha_max); ceilings have cos(angle) < 0.
-    const bool flat_enough = normal.dot(config.up) > cos_alpha_max;
+    const double cos_angle = normal.dot(config.up);
+    const bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > 0.0);
     const bool low_step = spread < config.delta_h_max_m;
     mesh->face_traversable[f] = (flat_enough && low_step && !mesh->TouchesViewpoint(f)) ? 1 : 0;
   }

@@ -72,13 +72,23 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
     if (d < closest_distance) closest_distance = d, closest = i;
   }
 
-  for (std::size_t i = route.size(); i-- > closest;) {
-    const RoutePoint& r = route[i];
-    if (!r.is_end && (r.position - here).norm() < config.min_distance_m) continue;
-    if (!map.IsKnownFree(r.position.x(), r.position.y())) continue;
-    const Pose2 pose{r.position.x(), r.position.y(), r.yaw_rad};
-    if (config.require_vehicle_fit && CheckPose(map, vehicle, pose) != PoseCheck::kValid) continue;
-    return LocalGoal{pose, r.progress_m, r.is_end};
+  std::vector<double> offsets = {0.0};
+  for (double d : config.lateral_offsets_m) {
+    offsets.push_back(d);
+    offsets.push_back(-d);
+  }
+  for (double offset : offsets) {
+    for (std::size_t i = route.size(); i-- > closest;) {
+      const RoutePoint& r = route[i];
+      const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
+      const Eigen::Vector2d p = r.position + offset * side;
+      const bool is_end = r.is_end && offset == 0.0;
+      if (!is_end && (p - here).norm() < config.min_distance_m) continue;
+      if (!map.IsKnownFree(p.x(), p.y())) continue;
+      const Pose2 pose{p.x(), p.y(), r.yaw_rad};
+      if (config.require_vehicle_fit && CheckPose(map, vehicle, pose) != PoseCheck::kValid) continue;
+      return LocalGoal{pose, r.progress_m, is_end};
+    }
   }
   return std::nullopt;
 }

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <memory>
@@ -291,28 +290,6 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
           if (goal) {
             ++result.plans;
             const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal->pose);
-            if (std::getenv("OVPC_DEBUG_PLAN") && time > 5.0 && plan.status == planner::PlanStatus::kStartInvalid) {
-              const auto ground = vmap.Project(vehicle_L);
-              std::fprintf(stderr, "DEBUG t=%.2f vehicle_L %.2f %.2f %.2f zref %.2f\n", time, vehicle_L.x_m, vehicle_L.y_m, vehicle_L.yaw_rad, map_config.ground_reference_z_m);
-              if (ground) {
-                const Eigen::Isometry3d T_B_L = ground->T_L_B.inverse();
-                for (std::size_t i = 0; i < map.cloud.size(); ++i) {
-                  const Vec3 p = T_B_L * map.cloud.points()[i];
-                  if (p.x() > -0.55 && p.x() < 2.45 && std::abs(p.y()) < 0.85 && p.z() > -0.5 && p.z() < 2.3 && (p.z() > 0.2 || !map.cloud.traversable()[i]))
-                  {
-                    std::fprintf(stderr, "  in box: B %.2f %.2f %.2f trav %d n %.2f %.2f %.2f\n", p.x(), p.y(), p.z(), map.cloud.traversable()[i], map.cloud.normals()[i].x(), map.cloud.normals()[i].y(), map.cloud.normals()[i].z());
-                    for (std::size_t f = 0; f < map.mesh.triangles.size(); ++f) {
-                      const auto& tri = map.mesh.triangles[f];
-                      if (tri[0] != (int)i && tri[1] != (int)i && tri[2] != (int)i) continue;
-                      std::fprintf(stderr, "     face trav %d n.z %.3f vp %d :", map.mesh.face_traversable[f], map.mesh.face_normals[f].z(), (int)map.mesh.TouchesViewpoint(f));
-                      for (int v : tri) { const Vec3 q = T_B_L * map.mesh.vertices[v]; std::fprintf(stderr, " (%.2f %.2f %.2f)", q.x(), q.y(), q.z()); }
-                      std::fprintf(stderr, "\n");
-                    }
-                  }
-                }
-              }
-              std::exit(3);
-            }
             std::string outcome = planner::PlanStatusName(plan.status);
             if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
             if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);

@@ -124,6 +124,9 @@ void ReadTerrain(MapReader r, sim::TerrainConfig* t) {
     s.Get("start_m", &t->ramp.start_m);
     s.Get("angle_deg", &t->ramp.angle_deg);
     s.Get("height_m", &t->ramp.height_m);
+    s.Get("lane_angle_deg", &t->ramp.lane_angle_deg);
+    s.Get("lane_centre_m", &t->ramp.lane_centre_m);
+    s.Get("lane_width_m", &t->ramp.lane_width_m);
     s.Finish();
   }
   if (const YAML::Node n = r.Child("ditch")) {
@@ -222,6 +225,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("gamma", &s->mapper.ghpr.gamma);
     m.GetDegrees("alpha_max_deg", &s->mapper.traversability.alpha_max_rad);
     m.Get("dh_max_m", &s->mapper.traversability.delta_h_max_m);
+    m.Get("noise_floor_m", &s->mapper.traversability.noise_floor_m);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("buffer")) {
@@ -240,6 +244,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("check_resolution_m", &s->planner.check_resolution_m);
     m.Get("margin_m", &s->planner.vehicle.margin_m);
     m.Get("vehicle_height_m", &s->planner.vehicle.height_m);
+    m.Get("ground_clearance_m", &s->planner.vehicle.ground_clearance_m);
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);
@@ -367,6 +372,12 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
 
   Scenario s;
   s.path = file;
+  // Closed-loop default: the simulated VLP-16's 1.5 cm range noise makes ground slivers look steep.
+  s.mapper.traversability.noise_floor_m = 0.05;
+  // Closed-loop defaults for the local goal: nearer goals and side offsets keep the vehicle moving
+  // when the route runs through the shadow of a post (see docs/CLOSED_LOOP.md).
+  s.local_goal.min_distance_m = 2.5;
+  s.local_goal.lateral_offsets_m = {1.5, 3.0};
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);

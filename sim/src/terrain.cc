@@ -85,6 +85,8 @@ void TerrainConfig::Validate() const {
       break;
     case Kind::kRamp:
       require(ramp.angle_deg > 0.0 && ramp.angle_deg < 80.0, "ramp.angle_deg must be in (0, 80)");
+      require(ramp.lane_angle_deg >= 0.0 && ramp.lane_angle_deg < 80.0, "ramp.lane_angle_deg must be in [0, 80)");
+      require(ramp.lane_width_m > 0.0, "ramp.lane_width_m must be > 0");
       require(ramp.height_m > 0.0 && std::isfinite(ramp.height_m), "ramp.height_m must be > 0");
       require(std::isfinite(ramp.start_m), "ramp.start_m must be finite");
       break;
@@ -116,7 +118,11 @@ double ProfileHeight(const TerrainConfig& config, double x_m, double y_m) {
     case TerrainConfig::Kind::kSlope:
       return s_m * std::tan(DegToRad(config.slope.angle_deg));
     case TerrainConfig::Kind::kRamp: {
-      const double rise_m = (s_m - config.ramp.start_m) * std::tan(DegToRad(config.ramp.angle_deg));
+      const TerrainConfig::Ramp& ramp = config.ramp;
+      const double across_m = -x_m * std::sin(dir_rad) + y_m * std::cos(dir_rad);
+      const bool in_lane = ramp.lane_angle_deg > 0.0 && std::abs(across_m - ramp.lane_centre_m) <= 0.5 * ramp.lane_width_m;
+      const double angle_deg = in_lane ? ramp.lane_angle_deg : ramp.angle_deg;
+      const double rise_m = (s_m - ramp.start_m) * std::tan(DegToRad(angle_deg));
       return std::clamp(rise_m, 0.0, config.ramp.height_m);
     }
     case TerrainConfig::Kind::kDitch: {

@@ -56,6 +56,26 @@ TEST(TraversabilityTest, HeightSpreadJustBelowAndAbove25Centimetres) {
   }
 }
 
+TEST(TraversabilityTest, NoiseFloorJudgesLowSliversByHeightAlone) {
+  // A 5 cm sliver tilted 40 deg spans 3.2 cm: steep by the angle, flat by the noise floor.
+  FreeSpaceMesh sliver = TiltedTriangle(DegToRad(40.0), 0.05);
+  FreeSpaceMesh ceiling = TiltedTriangle(DegToRad(140.0), 0.05);
+  FreeSpaceMesh slope = TiltedTriangle(DegToRad(40.0), 1.0);  // spans 0.64 m: a real slope
+  TraversabilityConfig paper;
+  ClassifyFaces(paper, &sliver);
+  EXPECT_EQ(sliver.face_traversable[0], 0);
+  TraversabilityConfig noisy;
+  noisy.noise_floor_m = 0.05;
+  ClassifyFaces(noisy, &sliver);
+  ClassifyFaces(noisy, &ceiling);
+  ClassifyFaces(noisy, &slope);
+  EXPECT_EQ(sliver.face_traversable[0], 1);
+  EXPECT_EQ(ceiling.face_traversable[0], 0) << "a face looking down is never ground";
+  EXPECT_EQ(slope.face_traversable[0], 0);
+  noisy.noise_floor_m = 0.3;  // not below delta_h_max
+  EXPECT_THROW(noisy.Validate(), std::invalid_argument);
+}
+
 TEST(TraversabilityTest, DegenerateAndViewpointFacesAreNotTraversable) {
   TraversabilityConfig config;
   FreeSpaceMesh mesh;

@@ -20,6 +20,10 @@ struct LocalGoalConfig {
   /// Also require that the vehicle box fits at the goal (CheckPose), not only that the place is
   /// known free, so that the planner does not reject the goal.
   bool require_vehicle_fit = true;
+  /// When no route point qualifies, points this far to either side of the route (perpendicular to
+  /// it) are tried as well, nearest offset first: the route may run through a post's shadow while
+  /// the ground beside it is known. Empty: the route only (the paper's rule).
+  std::vector<double> lateral_offsets_m;
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -32,7 +36,8 @@ struct LocalGoal {
 
 /// The farthest point along the route, ahead of the vehicle, that is inside known free space and
 /// traversable (and, by default, where the vehicle fits) and at least `min_distance_m` from the
-/// vehicle. The route's last waypoint qualifies at any distance. "Ahead" means past the route point
+/// vehicle. The route's last waypoint qualifies at any distance. If no route point qualifies, the
+/// same search runs over points offset sideways by `lateral_offsets_m`. "Ahead" means past the route point
 /// closest to the vehicle. Nothing if no route point qualifies.
 ///
 /// @param route_O waypoints in the odometry frame O, in driving order.

@@ -27,6 +27,12 @@ struct TerrainConfig {
     double start_m = 5.0;     ///< distance along the direction where the ramp starts
     double angle_deg = 20.0;  ///< ramp inclination
     double height_m = 1.0;    ///< plateau height
+    /// A lane across which the ramp is gentler (a detour around a steep ramp): points whose
+    /// distance across the direction is within lane_width_m / 2 of lane_centre_m rise at
+    /// lane_angle_deg instead. 0 means no lane.
+    double lane_angle_deg = 0.0;
+    double lane_centre_m = 0.0;
+    double lane_width_m = 6.0;
   };
   struct Ditch {
     double centre_m = 5.0;        ///< distance along the direction of the ditch's centre line

@@ -1,0 +1,284 @@
+// `ovpc suite`: many scenario runs in parallel processes, a summary table, JUnit XML and JSON.
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <algorithm>
+#include <cstring>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "ovpc/scenarios/scenario_yaml.h"
+
+extern char** environ;
+
+namespace ovpc::apps {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Job {
+  std::string file;
+  std::string scenario;
+  std::uint64_t seed = 1;
+  std::vector<std::string> settings;  // key=value
+  std::string out_dir;
+  pid_t pid = 0;
+  int exit_code = -1;
+  nlohmann::json result;
+};
+
+std::string SettingsLabel(const std::vector<std::string>& settings) {
+  std::string s;
+  for (const auto& kv : settings) s += (s.empty() ? "" : " ") + kv;
+  return s;
+}
+
+std::string XmlEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// Cartesian product of the sweeps: each entry of the result is one list of key=value settings.
+std::vector<std::vector<std::string>> SweepCombinations(const std::vector<std::string>& sweeps) {
+  std::vector<std::vector<std::string>> combos = {{}};
+  for (const std::string& sweep : sweeps) {
+    const std::size_t eq = sweep.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 >= sweep.size()) {
+      throw BadInput("--sweep '" + sweep + "' must be key=v1,v2,... (e.g. params.controller.lookahead_gain_s=0.3,0.5)");
+    }
+    const std::string key = sweep.substr(0, eq);
+    std::vector<std::string> values;
+    std::stringstream ss(sweep.substr(eq + 1));
+    std::string v;
+    while (std::getline(ss, v, ',')) values.push_back(v);
+    std::vector<std::vector<std::string>> next;
+    for (const auto& combo : combos) {
+      for (const auto& value : values) {
+        auto c = combo;
+        c.push_back(key + "=" + value);
+        next.push_back(c);
+      }
+    }
+    combos = next;
+  }
+  return combos;
+}
+
+pid_t Spawn(const std::vector<std::string>& args, const std::string& log_path) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
+  return pid;
+}
+
+}  // namespace
+
+Runner RegisterSuite(CLI::App& app) {
+  struct Options {
+    std::vector<std::string> inputs;
+    int jobs = 2;
+    int seeds = 1;
+    std::vector<std::string> sweeps;
+    std::vector<std::string> skip_labels;
+    std::string out = "out/suite";
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("suite", "Run many scenarios (and seeds, and parameter sweeps) in parallel processes");
+  cmd->footer(
+      "Each run is `ovpc run` in its own process, writing to OUT/<scenario>[__<settings>]/seed_<k>. Prints a\n"
+      "summary table, and writes OUT/junit.xml and OUT/summary.json. Exit codes: 0 every run passed, 1 some\n"
+      "run failed, 2 bad input.");
+  cmd->add_option("inputs", o->inputs, "Scenario folders (every *.yaml in them) or files")->required();
+  cmd->add_option("-j,--jobs", o->jobs, "Runs at the same time")->capture_default_str();
+  cmd->add_option("--seeds", o->seeds, "Seeds 1..K for every scenario")->capture_default_str();
+  cmd->add_option("--sweep", o->sweeps, "key=v1,v2,...: run every combination of values (repeatable)");
+  cmd->add_option("--skip-label", o->skip_labels, "Leave out scenarios with this label (e.g. long)");
+  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  return [o]() {
+    if (o->jobs < 1) throw BadInput("--jobs must be >= 1");
+    if (o->seeds < 1) throw BadInput("--seeds must be >= 1");
+    std::vector<std::string> files;
+    for (const std::string& in : o->inputs) {
+      if (fs::is_directory(in)) {
+        std::vector<std::string> found;
+        for (const auto& e : fs::directory_iterator(in)) {
+          if (e.path().extension() == ".yaml") found.push_back(e.path().string());
+        }
+        std::sort(found.begin(), found.end());
+        files.insert(files.end(), found.begin(), found.end());
+      } else if (fs::is_regular_file(in)) {
+        files.push_back(in);
+      } else {
+        throw BadInput(in + ": no such scenario file or folder");
+      }
+    }
+    const auto combos = SweepCombinations(o->sweeps);
+    std::vector<Job> jobs;
+    for (const std::string& file : files) {
+      scenarios::Scenario s;
+      try {
+        s = scenarios::LoadScenario(file, combos.front());
+      } catch (const scenarios::ScenarioError& e) {
+        throw BadInput(e.what());
+      }
+      bool skip = false;
+      for (const auto& l : o->skip_labels) skip = skip || std::count(s.labels.begin(), s.labels.end(), l) > 0;
+      if (skip) continue;
+      for (const auto& combo : combos) {
+        std::string tag = s.name;
+        for (const auto& kv : combo) tag += "__" + kv;
+        std::replace(tag.begin(), tag.end(), '/', '_');
+        for (int seed = 1; seed <= o->seeds; ++seed) {
+          Job job;
+          job.file = file;
+          job.scenario = s.name;
+          job.seed = static_cast<std::uint64_t>(seed);
+          job.settings = combo;
+          job.out_dir = (fs::path(o->out) / tag / ("seed_" + std::to_string(seed))).string();
+          jobs.push_back(job);
+        }
+      }
+    }
+    if (jobs.empty()) throw BadInput("no scenario to run");
+
+    const std::string self = fs::read_symlink("/proc/self/exe").string();
+    std::size_t next = 0, done = 0, passed = 0, running = 0;
+    std::map<pid_t, std::size_t> by_pid;
+    auto progress = [&]() {
+      std::fprintf(stderr, "\r[%zu/%zu] done, %zu running, %zu passed, %zu failed   ", done, jobs.size(), running, passed,
+                   done - passed);
+      std::fflush(stderr);
+    };
+    while (done < jobs.size()) {
+      while (running < static_cast<std::size_t>(o->jobs) && next < jobs.size()) {
+        Job& job = jobs[next];
+        fs::create_directories(job.out_dir);
+        std::vector<std::string> args = {self, "run", job.file, "--seed", std::to_string(job.seed), "--out", job.out_dir, "-q"};
+        for (const auto& kv : job.settings) {
+          args.push_back("--set");
+          args.push_back(kv);
+        }
+        job.pid = Spawn(args, (fs::path(job.out_dir) / "run.log").string());
+        by_pid[job.pid] = next++;
+        ++running;
+        progress();
+      }
+      int status = 0;
+      const pid_t pid = waitpid(-1, &status, 0);
+      if (pid < 0) break;
+      auto it = by_pid.find(pid);
+      if (it == by_pid.end()) continue;
+      Job& job = jobs[it->second];
+      job.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+      std::ifstream in(fs::path(job.out_dir) / "result.json");
+      if (in) {
+        try {
+          in >> job.result;
+        } catch (const std::exception&) {
+        }
+      }
+      passed += job.exit_code == 0;
+      ++done;
+      --running;
+      progress();
+    }
+    std::fprintf(stderr, "\n");
+
+    // Summary table, JUnit XML and JSON.
+    std::printf("%-22s %-5s %-34s %-6s %9s %9s %7s  %s\n", "scenario", "seed", "settings", "result", "sim [s]", "dist [m]",
+                "RTF", "end");
+    nlohmann::json summary = nlohmann::json::array();
+    std::ostringstream cases;
+    double total_wall = 0.0;
+    for (const Job& job : jobs) {
+      const nlohmann::json& r = job.result;
+      const bool ok = job.exit_code == 0;
+      const double sim_s = r.value("sim_time_s", 0.0), dist = r.value("distance_m", 0.0), rtf = r.value("real_time_factor", 0.0);
+      const double wall = r.value("wall_time_s", 0.0);
+      total_wall += wall;
+      std::printf("%-22s %-5llu %-34s %-6s %9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
+                  static_cast<unsigned long long>(job.seed), SettingsLabel(job.settings).c_str(), ok ? "pass" : "FAIL",
+                  sim_s, dist, rtf, r.value("end_reason", std::string("exit code ") + std::to_string(job.exit_code)).c_str());
+      summary.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"settings", job.settings},
+                         {"passed", ok}, {"exit_code", job.exit_code}, {"out", job.out_dir}, {"result", r}});
+      cases << "    <testcase classname=\"" << XmlEscape(job.scenario) << "\" name=\""
+            << XmlEscape("seed=" + std::to_string(job.seed) + (job.settings.empty() ? "" : " " + SettingsLabel(job.settings)))
+            << "\" time=\"" << wall << "\">\n";
+      if (!ok) {
+        std::string failures;
+        if (r.contains("criteria")) {
+          for (const auto& c : r["criteria"]) {
+            if (!c.value("passed", false)) {
+              failures += c.value("name", std::string()) + ": expected " + c.value("expected", std::string()) + ", got " +
+                          c.value("actual", std::string()) + "\n";
+            }
+          }
+        } else {
+          failures = "run failed with exit code " + std::to_string(job.exit_code) + " (see " + job.out_dir + "/run.log)\n";
+        }
+        cases << "      <failure message=\"" << XmlEscape(failures.substr(0, failures.find('\n'))) << "\">"
+              << XmlEscape(failures) << "</failure>\n";
+      }
+      cases << "    </testcase>\n";
+    }
+    // Sweep table: pass rate and mean figures per combination of values.
+    if (!o->sweeps.empty()) {
+      std::printf("\nsweep: %-40s %6s %12s %12s\n", "settings", "passed", "mean sim [s]", "mean dist [m]");
+      for (const auto& combo : combos) {
+        int n = 0, ok = 0;
+        double sim_s = 0.0, dist = 0.0;
+        for (const Job& job : jobs) {
+          if (job.settings != combo) continue;
+          ++n;
+          ok += job.exit_code == 0;
+          sim_s += job.result.value("sim_time_s", 0.0);
+          dist += job.result.value("distance_m", 0.0);
+        }
+        if (n == 0) continue;
+        std::printf("       %-40s %3d/%-3d %12.1f %12.1f\n", SettingsLabel(combo).c_str(), ok, n, sim_s / n, dist / n);
+      }
+    }
+    fs::create_directories(o->out);
+    std::ofstream junit(fs::path(o->out) / "junit.xml");
+    junit << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"ovpc scenarios\" tests=\""
+          << jobs.size() << "\" failures=\"" << jobs.size() - passed << "\" time=\"" << total_wall << "\">\n"
+          << cases.str() << "  </testsuite>\n</testsuites>\n";
+    std::ofstream(fs::path(o->out) / "summary.json") << nlohmann::json{{"runs", summary}, {"passed", passed}, {"total", jobs.size()}}.dump(2)
+                                                     << "\n";
+    std::printf("\n%zu of %zu runs passed; wrote %s/junit.xml and %s/summary.json\n", passed, jobs.size(), o->out.c_str(),
+                o->out.c_str());
+    return passed == jobs.size() ? kExitOk : kExitFailure;
+  };
+}
+
+}  // namespace ovpc::apps

@@ -1,0 +1,52 @@
+// Real closed-loop runs: short ones, so that they fit the unit label.
+#include "ovpc/scenarios/closed_loop.h"
+
+#include <gtest/gtest.h>
+
+#include "ovpc/scenarios/scenario_yaml.h"
+
+namespace ovpc::scenarios {
+namespace {
+
+const char* kShort = R"(name: short_flat
+time_limit_s: 8
+terrain: {kind: flat, size_m: [40, 20]}
+route: [[0, 0], [6, 0]]
+criteria:
+  goal: {x_m: 6.0, y_m: 0.0, radius_m: 1.0}
+  no_collision: true
+  max_time_s: 8
+)";
+
+TEST(ClosedLoopTest, SameScenarioAndSeedGiveABitIdenticalTrajectory) {
+  const Scenario s = ParseScenario(kShort, "short.yaml", {"time_limit_s=4"});
+  const RunResult a = RunClosedLoop(s, 7, RunOptions{});
+  const RunResult b = RunClosedLoop(s, 7, RunOptions{});
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  ASSERT_GT(a.trajectory.size(), 10u);
+  for (std::size_t i = 0; i < a.trajectory.size(); ++i) {
+    ASSERT_EQ(a.trajectory[i].T_W_B.matrix(), b.trajectory[i].T_W_B.matrix()) << "row " << i;
+    ASSERT_EQ(a.trajectory[i].cmd_steering_rad, b.trajectory[i].cmd_steering_rad);
+    ASSERT_EQ(a.trajectory[i].cmd_speed_mps, b.trajectory[i].cmd_speed_mps);
+  }
+  EXPECT_GT(a.distance_m, 0.5) << "the vehicle should have set off";
+}
+
+TEST(ClosedLoopTest, ReachesAGoalOnFlatGroundAndScoresIt) {
+  const Scenario s = ParseScenario(kShort, "short.yaml");
+  const RunResult r = RunClosedLoop(s, 1, RunOptions{});
+  EXPECT_TRUE(r.passed) << r.end_reason;
+  EXPECT_EQ(r.end_reason, "goal reached");
+  EXPECT_EQ(r.collision_steps, 0u);
+  ASSERT_FALSE(r.criteria.empty());
+  EXPECT_EQ(r.criteria.front().name, "goal_reached");
+}
+
+TEST(ClosedLoopTest, AnImpossibleDeadlineFails) {
+  const Scenario s = ParseScenario(kShort, "short.yaml", {"criteria.max_time_s=1", "time_limit_s=3"});
+  const RunResult r = RunClosedLoop(s, 1, RunOptions{});
+  EXPECT_FALSE(r.passed);
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios

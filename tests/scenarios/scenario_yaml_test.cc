@@ -1,0 +1,100 @@
+#include "ovpc/scenarios/scenario_yaml.h"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace ovpc::scenarios {
+namespace {
+
+const char* kMinimal = R"(name: tiny
+time_limit_s: 5
+terrain: {kind: flat, size_m: [30, 20]}
+objects:
+  - carport: {x_m: 6.0, y_m: 0.0, roof_height_m: 2.5}
+  - sphere: {x_m: 3.0, y_m: 4.0, radius_m: 0.5}
+route: [[0, 0], [10, 0]]
+params:
+  mapper: {gamma: -0.02, alpha_max_deg: 25}
+  buffer: {scans: 20}
+criteria:
+  goal: {x_m: 10, y_m: 0, radius_m: 1.0}
+  max_pitch_deg: 12
+  forbidden:
+    - {name: pit, min_m: [4, -1], max_m: [5, 1]}
+)";
+
+std::string ErrorOf(const std::string& yaml, const std::vector<std::string>& settings = {}) {
+  try {
+    ParseScenario(yaml, "test.yaml", settings);
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ScenarioYamlTest, ReadsEverySection) {
+  const Scenario s = ParseScenario(kMinimal, "test.yaml");
+  EXPECT_EQ(s.name, "tiny");
+  EXPECT_DOUBLE_EQ(s.time_limit_s, 5.0);
+  EXPECT_DOUBLE_EQ(s.sim.world.terrain.size_x_m, 30.0);
+  ASSERT_EQ(s.sim.world.carports.size(), 1u);
+  ASSERT_EQ(s.sim.world.ellipsoids.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.sim.world.ellipsoids[0].radius_z_m, 0.5);
+  ASSERT_EQ(s.route_m.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.mapper.ghpr.gamma, -0.02);
+  EXPECT_NEAR(RadToDeg(s.mapper.traversability.alpha_max_rad), 25.0, 1e-12);
+  EXPECT_EQ(s.buffer.max_scans, 20);
+  ASSERT_TRUE(s.criteria.goal_m.has_value());
+  EXPECT_DOUBLE_EQ(s.criteria.goal_m->x(), 10.0);
+  ASSERT_TRUE(s.criteria.max_pitch_deg.has_value());
+  ASSERT_EQ(s.criteria.forbidden.size(), 1u);
+  EXPECT_EQ(s.criteria.forbidden[0].name, "pit");
+}
+
+TEST(ScenarioYamlTest, SettingsOverrideValues) {
+  const Scenario s = ParseScenario(kMinimal, "test.yaml", {"params.mapper.gamma=-0.01", "time_limit_s=9"});
+  EXPECT_DOUBLE_EQ(s.mapper.ghpr.gamma, -0.01);
+  EXPECT_DOUBLE_EQ(s.time_limit_s, 9.0);
+}
+
+TEST(ScenarioYamlTest, UnknownKeysAndWrongTypesNameFileLineAndKey) {
+  std::string bad = kMinimal;
+  bad.replace(bad.find("scans"), 5, "scanz");
+  EXPECT_EQ(ErrorOf(bad).rfind("test.yaml:10: unknown key 'params.buffer.scanz'", 0), 0u) << ErrorOf(bad);
+
+  bad = kMinimal;
+  bad.replace(bad.find("time_limit_s: 5") + 14, 1, "soon");
+  EXPECT_NE(ErrorOf(bad).find("test.yaml:2: 'time_limit_s' must be a number, got 'soon'"), std::string::npos)
+      << ErrorOf(bad);
+
+  bad = kMinimal;
+  bad.replace(bad.find("sphere"), 6, "cone");
+  EXPECT_NE(ErrorOf(bad).find("unknown object type 'cone'"), std::string::npos) << ErrorOf(bad);
+
+  bad = kMinimal;
+  bad.replace(bad.find("[10, 0]"), 7, "[10]");
+  EXPECT_NE(ErrorOf(bad).find("'route[1]' must be [x, y]"), std::string::npos) << ErrorOf(bad);
+
+  EXPECT_NE(ErrorOf("name: x\ntime_limit_s: 3\n").find("'route' is required"), std::string::npos);
+  EXPECT_NE(ErrorOf("name: [unclosed\n").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gamma=0.5"}).find("gamma"), std::string::npos);
+  EXPECT_NE(ErrorOf(kMinimal, {"nonsense"}).find("key=value"), std::string::npos);
+  EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gammma=-0.1"}).find("unknown key 'params.mapper.gammma'"),
+            std::string::npos);
+}
+
+TEST(ScenarioYamlTest, MissingFileIsAnError) {
+  EXPECT_THROW(LoadScenario("/nonexistent/scenario.yaml"), ScenarioError);
+}
+
+TEST(ScenarioYamlTest, EveryBundledScenarioLoads) {
+  for (const char* name : {"carport_2p5", "flat_posts", "slope_20", "slope_35_detour", "low_roof_1p6", "rough_ground",
+                           "faults_flat_posts", "faults_carport_2p5", "mixed_long"}) {
+    SCOPED_TRACE(name);
+    EXPECT_NO_THROW(LoadScenario(std::string(OVPC_SOURCE_DIR) + "/scenarios/" + name + ".yaml"));
+  }
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
