@@ -103,11 +103,13 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
   return false;
 }
 
-// The ground the vehicle stands on, which the sensor cannot see: measured points over the footprint
-// (grown by `margin_m`, up to 0.3 m above the ground) are replaced by a 0.25 m grid on the footprint
-// plane (z = 0 in B). Mixing both would put noisy points a few centimetres from exact ones and make
-// steep slivers of faces.
-void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, Points* points_L) {
+// The space the vehicle occupies is free, and the ground it stands on is ground, but the sensor sees
+// neither: measured points over the footprint (grown by `margin_m` plus a band) up to the top of the
+// vehicle are dropped (returns off the vehicle itself on a real robot, outliers in simulation), and
+// a 0.25 m grid on the footprint plane (z = 0 in B) stands for the ground. Mixing measured ground with
+// the grid would put noisy points a few centimetres from exact ones and make steep slivers of faces.
+void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, double top_m,
+                       Points* points_L) {
   const double x0 = -v.rear_overhang_m - margin_m, x1 = v.length_m - v.rear_overhang_m + margin_m;
   const double y0 = -v.width_m / 2 - margin_m, y1 = v.width_m / 2 + margin_m;
   const Eigen::Isometry3d T_B_L = T_L_B.inverse();
@@ -117,7 +119,7 @@ void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v
                                    // A clearance band keeps measured points off the grid's edge.
                                    constexpr double kBand = 0.12;
                                    return p.x() >= x0 - kBand && p.x() <= x1 + kBand && p.y() >= y0 - kBand &&
-                                          p.y() <= y1 + kBand && p.z() < 0.3;
+                                          p.y() <= y1 + kBand && p.z() < top_m;
                                  }),
                   points_L->end());
   constexpr double kStep = 0.25;
@@ -240,7 +242,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
       PointCloudBuffer::LocalCloud cloud = buffer.Build();
       if (scenario.loop.footprint_prior_margin_m > 0.0 && !cloud.points_L.empty()) {
         AddFootprintPrior(cloud.T_O_L.inverse() * sim.T_O_B(), vehicle, scenario.loop.footprint_prior_margin_m,
-                          &cloud.points_L);
+                          planner_config.vehicle.height_m + planner_config.vehicle.margin_m + 0.05, &cloud.points_L);
       }
       t_buffer.Add(MsSince(t));
       t = Clock::now();

@@ -377,7 +377,7 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   // Closed-loop defaults for the local goal: nearer goals and side offsets keep the vehicle moving
   // when the route runs through the shadow of a post (see docs/CLOSED_LOOP.md).
   s.local_goal.min_distance_m = 2.5;
-  s.local_goal.lateral_offsets_m = {1.5, 3.0};
+  s.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);
