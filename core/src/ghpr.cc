@@ -14,6 +14,7 @@
 #include <CGAL/property_map.h>
 
 #include "incremental_hull.h"
+#include "internal_util.h"
 
 namespace ovpc {
 namespace {
@@ -25,10 +26,8 @@ using Point3 = Kernel::Point_3;
 // undefined at d = 0 and numerically meaningless next to it.
 constexpr double kMinDistanceM = 1e-6;
 
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using internal::Clock;
+using internal::MsSince;
 
 Point3 ToCgal(const Vec3& p) { return Point3(p.x(), p.y(), p.z()); }
 

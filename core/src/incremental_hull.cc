@@ -5,6 +5,8 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include "internal_util.h"
+
 namespace ovpc::internal {
 namespace {
 
@@ -47,12 +49,6 @@ int AbovePlane(const Facet& f, const Points& pts, int p) {
   return ExactOrientation(a, pts[f.v[1]], pts[f.v[2]], pts[p]);
 }
 
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 class Builder {
  public:

@@ -1,17 +1,16 @@
 #include "ovpc/core/ovpc_mapper.h"
 
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
 
+#include "internal_util.h"
+
 namespace ovpc {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using internal::Clock;
+using internal::MsSince;
 
 }  // namespace
 

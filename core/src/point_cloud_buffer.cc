@@ -6,18 +6,15 @@
 #include <string>
 #include <utility>
 
+#include "internal_util.h"
+
 namespace ovpc {
 namespace {
 
+using internal::Mix;
+
 bool IsFinite(const Vec3& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
 
-// splitmix64: a fixed, platform-independent mixing function for deterministic subsampling.
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 }  // namespace
 
