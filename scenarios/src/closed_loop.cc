@@ -263,19 +263,16 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
 
         bool blocked = false;
         if (follower && !follower->done()) {
-          blocked = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O)).has_value();
-          // Poses already driven past do not count: check only from the closest pose on.
-          if (blocked) {
-            const auto poses = path_O.Poses();
-            std::size_t closest = 0;
-            double best = 1e300;
-            const Eigen::Vector2d v(sim.T_O_B().translation().head<2>());
-            for (std::size_t i = 0; i < poses.size(); ++i) {
-              const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
-              if (d < best) best = d, closest = i;
-            }
-            blocked = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O), closest).has_value();
+          // Poses already driven past do not count: check from the pose closest to the vehicle on.
+          const auto poses = path_O.Poses();
+          std::size_t closest = 0;
+          double best = 1e300;
+          const Eigen::Vector2d v(sim.T_O_B().translation().head<2>());
+          for (std::size_t i = 0; i < poses.size(); ++i) {
+            const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
+            if (d < best) best = d, closest = i;
           }
+          blocked = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O), closest).has_value();
         }
         planner::ReplanInputs in;
         in.now_s = time;
