@@ -91,15 +91,19 @@ class SeededPathSimplifier : public og::PathSimplifier {
 
 class MapValidityChecker : public ob::StateValidityChecker {
  public:
-  MapValidityChecker(const ob::SpaceInformationPtr& si, const PlanningMap& map, const VehicleBox& vehicle)
-      : ob::StateValidityChecker(si), map_(map), vehicle_(vehicle) {}
+  MapValidityChecker(const ob::SpaceInformationPtr& si, const PlanningMap& map, const VehicleBox& vehicle,
+                     std::array<std::size_t, kNumPoseChecks>* counts)
+      : ob::StateValidityChecker(si), map_(map), vehicle_(vehicle), counts_(counts) {}
   bool isValid(const ob::State* state) const override {
-    return CheckPose(map_, vehicle_, ToPose(state)) == PoseCheck::kValid;
+    const PoseCheck check = CheckPose(map_, vehicle_, ToPose(state));
+    ++(*counts_)[static_cast<std::size_t>(check)];
+    return check == PoseCheck::kValid;
   }
 
  private:
   const PlanningMap& map_;
   const VehicleBox& vehicle_;
+  std::array<std::size_t, kNumPoseChecks>* counts_;  // owned by the PlanResult of the running Plan() call
 };
 
 // Appends `pose` to the path, starting a new segment at a change of direction (the cusp pose ends
@@ -229,7 +233,7 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
       [seed](const ob::StateSpace* s) { return std::make_shared<SeededSe2Sampler>(s, seed); });
 
   auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker(std::make_shared<MapValidityChecker>(si, map, config_.vehicle));
+  si->setStateValidityChecker(std::make_shared<MapValidityChecker>(si, map, config_.vehicle, &result.state_checks));
   si->setMotionValidator(std::make_shared<ob::ReedsSheppMotionValidator>(si));
   si->setStateValidityCheckingResolution(
       std::min(1.0, config_.check_resolution_m / space->getMaximumExtent()));

@@ -28,6 +28,9 @@ void VehicleBox::Validate() const {
   RequireNonNegative(margin_m, "margin_m");
   RequireNonNegative(ground_clearance_m, "ground_clearance_m");
   RequireNonNegative(footprint_depth_m, "footprint_depth_m");
+  RequirePositive(wheelbase_m, "wheelbase_m");
+  RequirePositive(track_m, "track_m");
+  RequirePositive(wheel_support_m, "wheel_support_m");
   if (!std::isfinite(centre_ahead_m)) throw std::invalid_argument("VehicleBox: centre_ahead_m must be finite");
   if (!(ground_clearance_m < height_m + margin_m)) {
     throw std::invalid_argument("VehicleBox: ground_clearance_m must be below the box top (height_m + margin_m)");
@@ -40,6 +43,7 @@ const char* PoseCheckName(PoseCheck check) {
     case PoseCheck::kOutsideMap: return "outside map";
     case PoseCheck::kNotTraversable: return "not traversable";
     case PoseCheck::kCollision: return "collision";
+    case PoseCheck::kGroundUnderFootprint: return "ground under footprint";
   }
   return "unknown";
 }
@@ -52,8 +56,7 @@ PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pos
   const std::optional<GroundPose> ground = map.Project(pose);
   if (!ground) return PoseCheck::kOutsideMap;
   if (!ground->traversable) return PoseCheck::kNotTraversable;
-  if (!map.IsBoxFree(*ground, vehicle)) return PoseCheck::kCollision;
-  return PoseCheck::kValid;
+  return map.CheckBox(*ground, vehicle);
 }
 
 }  // namespace ovpc::planner

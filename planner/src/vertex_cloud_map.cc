@@ -99,7 +99,7 @@ std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
   return ground;
 }
 
-bool VertexCloudMap::IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const {
+PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const {
   // The vehicle box and the slab under its footprint, in frame B: x along the heading from the rear
   // axle, z along the ground normal from the ground plane of the pose.
   const double min_x = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
@@ -107,7 +107,8 @@ bool VertexCloudMap::IsBoxFree(const GroundPose& ground, const VehicleBox& vehic
   const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
   const double top = vehicle.height_m + vehicle.margin_m;
   const double bottom = -vehicle.footprint_depth_m;
-  if (grid_.points.empty()) return true;
+  if (grid_.points.empty()) return PoseCheck::kValid;
+  const bool all_points = vehicle.footprint_check == VehicleBox::FootprintCheck::kAllPoints;
 
   // Planar bounding box of the eight corners, in cells.
   double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
@@ -138,12 +139,24 @@ bool VertexCloudMap::IsBoxFree(const GroundPose& ground, const VehicleBox& vehic
             p_B.z() > top) {
           continue;
         }
-        if (p_B.z() > vehicle.ground_clearance_m) return false;  // an obstacle, a roof, a wall in the box
-        if (!g.traversable[i]) return false;                     // non-traversable ground under the footprint
+        if (p_B.z() > vehicle.ground_clearance_m) return PoseCheck::kCollision;  // an obstacle, a roof, a wall in the box
+        if (!all_points) continue;
+        if (!g.traversable[i]) return PoseCheck::kGroundUnderFootprint;  // non-traversable ground under the footprint
       }
     }
   }
-  return true;
+  if (all_points) return PoseCheck::kValid;
+  // Each wheel stands on known traversable ground: its contact point on the pose's ground plane is
+  // close to a visible point, and that point is traversable.
+  for (double x : {0.0, vehicle.wheelbase_m}) {
+    for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
+      const auto nearest = cloud_.Nearest(ground.T_L_B * Vec3(x, y, 0.0));
+      if (!nearest || nearest->distance_m > vehicle.wheel_support_m || !cloud_.traversable()[nearest->index]) {
+        return PoseCheck::kGroundUnderFootprint;
+      }
+    }
+  }
+  return PoseCheck::kValid;
 }
 
 bool VertexCloudMap::IsKnownFree(double x_m, double y_m) const {

@@ -104,27 +104,31 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
 }
 
 // The space the vehicle occupies is free, and the ground it stands on is ground, but the sensor sees
-// neither: measured points over the footprint (grown by `margin_m` plus a band) up to the top of the
-// vehicle are dropped (returns off the vehicle itself on a real robot, outliers in simulation), and
-// a 0.25 m grid on the footprint plane (z = 0 in B) stands for the ground. Mixing measured ground with
-// the grid would put noisy points a few centimetres from exact ones and make steep slivers of faces.
-void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, double top_m,
-                       Points* points_L) {
-  const double x0 = -v.rear_overhang_m - margin_m, x1 = v.length_m - v.rear_overhang_m + margin_m;
-  const double y0 = -v.width_m / 2 - margin_m, y1 = v.width_m / 2 + margin_m;
+// neither. Measured points inside the vehicle's box (the body grown by the planner's margin, up to
+// its top) are dropped: returns off the vehicle itself on a real robot, outliers in simulation. Low
+// points (below `ground_band_m` in B) are dropped over the footprint grown by `margin_m` plus a band,
+// and a 0.25 m grid on the footprint plane (z = 0 in B) stands for the ground: mixing measured ground
+// with the grid would put noisy points a few centimetres from exact ones and make steep slivers of
+// faces. Anything taller just outside the body (a post the vehicle passes close by) stays in the map.
+void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, double body_margin_m,
+                       double ground_band_m, double top_m, Points* points_L) {
+  const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
+  const double y0 = -v.width_m / 2, y1 = v.width_m / 2;
+  // A clearance band keeps measured ground off the grid's edge.
+  constexpr double kBand = 0.12;
+  const double g = margin_m + kBand;
   const Eigen::Isometry3d T_B_L = T_L_B.inverse();
   points_L->erase(std::remove_if(points_L->begin(), points_L->end(),
                                  [&](const Vec3& p_L) {
                                    const Vec3 p = T_B_L * p_L;
-                                   // A clearance band keeps measured points off the grid's edge.
-                                   constexpr double kBand = 0.12;
-                                   return p.x() >= x0 - kBand && p.x() <= x1 + kBand && p.y() >= y0 - kBand &&
-                                          p.y() <= y1 + kBand && p.z() < top_m;
+                                   if (p.z() >= top_m) return false;
+                                   const double m = p.z() < ground_band_m ? g : body_margin_m;
+                                   return p.x() >= x0 - m && p.x() <= x1 + m && p.y() >= y0 - m && p.y() <= y1 + m;
                                  }),
                   points_L->end());
   constexpr double kStep = 0.25;
-  for (double x = x0; x <= x1 + 1e-9; x += kStep) {
-    for (double y = y0; y <= y1 + 1e-9; y += kStep) points_L->push_back(T_L_B * Vec3(x, y, 0.0));
+  for (double x = x0 - margin_m; x <= x1 + margin_m + 1e-9; x += kStep) {
+    for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) points_L->push_back(T_L_B * Vec3(x, y, 0.0));
   }
 }
 
@@ -241,8 +245,10 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
       t = Clock::now();
       PointCloudBuffer::LocalCloud cloud = buffer.Build();
       if (scenario.loop.footprint_prior_margin_m > 0.0 && !cloud.points_L.empty()) {
+        const planner::VehicleBox& box = planner_config.vehicle;
         AddFootprintPrior(cloud.T_O_L.inverse() * sim.T_O_B(), vehicle, scenario.loop.footprint_prior_margin_m,
-                          planner_config.vehicle.height_m + planner_config.vehicle.margin_m + 0.05, &cloud.points_L);
+                          box.margin_m + 0.02, box.ground_clearance_m, box.height_m + box.margin_m + 0.05,
+                          &cloud.points_L);
       }
       t_buffer.Add(MsSince(t));
       t = Clock::now();
@@ -286,6 +292,16 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
           const std::optional<planner::LocalGoal> goal =
               planner::SelectLocalGoal(vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal);
           last_plan_s = time;
+          const Eigen::Isometry3d T_W_L = T_W_B * T_L_B.inverse();
+          const auto to_world = [&T_W_L](const Pose2& p) {
+            const Vec3 p_W = T_W_L * Vec3(p.x_m, p.y_m, 0.0);
+            const Vec3 x_axis = T_W_L.linear() * Vec3(std::cos(p.yaw_rad), std::sin(p.yaw_rad), 0.0);
+            return Eigen::Vector3d(p_W.x(), p_W.y(), std::atan2(x_axis.y(), x_axis.x()));
+          };
+          PlanRecord record;
+          record.time_s = time;
+          record.reason = planner::ReplanReasonName(reason);
+          record.vehicle_W = to_world(vehicle_L);
           if (goal) {
             ++result.plans;
             const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal->pose);
@@ -293,6 +309,12 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
             if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
             if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
             ++result.plan_outcomes[outcome];
+            record.has_goal = true;
+            record.goal_W = to_world(goal->pose);
+            record.goal_progress_m = goal->route_progress_m;
+            record.outcome = outcome;
+            record.iterations = plan.iterations;
+            record.state_checks = plan.state_checks;
             if (plan.found()) {
               ++result.replans_found;
               path_O = Shifted(plan.path, L_to_O);
@@ -304,8 +326,10 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
             }
           } else {
             ++result.plan_outcomes["no_local_goal"];
+            record.outcome = "no_local_goal";
             if (blocked) follower.reset();
           }
+          result.plan_log.push_back(record);
         }
         t_planner.Add(MsSince(t));
 

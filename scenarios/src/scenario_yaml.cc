@@ -241,10 +241,22 @@ void ReadParams(MapReader r, Scenario* s) {
     MapReader m(n, r.Key("planner"), r.file());
     m.Get("turning_radius_m", &s->planner.turning_radius_m);
     m.Get("max_iterations", &s->planner.max_iterations);
+    m.Get("range_m", &s->planner.range_m);
     m.Get("check_resolution_m", &s->planner.check_resolution_m);
     m.Get("margin_m", &s->planner.vehicle.margin_m);
     m.Get("vehicle_height_m", &s->planner.vehicle.height_m);
     m.Get("ground_clearance_m", &s->planner.vehicle.ground_clearance_m);
+    if (const YAML::Node check = m.Child("footprint_check")) {
+      const std::string value = check.IsScalar() ? check.Scalar() : "";
+      if (value == "all_points") {
+        s->planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kAllPoints;
+      } else if (value == "wheels") {
+        s->planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
+      } else {
+        m.Fail(check, "'" + m.Key("footprint_check") + "' must be all_points or wheels, got '" + value + "'");
+      }
+    }
+    m.Get("wheel_support_m", &s->planner.vehicle.wheel_support_m);
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);
@@ -378,6 +390,8 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   // when the route runs through the shadow of a post (see docs/CLOSED_LOOP.md).
   s.local_goal.min_distance_m = 2.5;
   s.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
+  // The wheels' footprint rule (docs/CLOSED_LOOP.md), with the Gator's axles.
+  s.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);

@@ -69,6 +69,53 @@ TEST(VertexCloudMapTest, ARoofBelowTheMastCollidesAHigherOneDoesNot) {
   EXPECT_EQ(CheckPose(*low.map, low_vehicle, under), PoseCheck::kValid);
 }
 
+// Flat ground every 0.1 m over [-4, 6] x [-3, 3]; points for which `non_traversable` holds are
+// marked non-traversable, points for which `gap` holds are left out.
+template <class NonTraversable, class Gap>
+VertexCloudMap FlatGround(NonTraversable non_traversable, Gap gap) {
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  for (int i = -40; i <= 60; ++i) {
+    for (int j = -30; j <= 30; ++j) {
+      const double x = 0.1 * i, y = 0.1 * j;
+      if (gap(x, y)) continue;
+      points.emplace_back(x, y, 0.0);
+      normals.push_back(Vec3::UnitZ());
+      traversable.push_back(non_traversable(x, y) ? 0 : 1);
+    }
+  }
+  return VertexCloudMap(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{});
+}
+
+TEST(VertexCloudMapTest, WheelRuleLetsLowNonTraversablePointsPassBetweenTheWheels) {
+  VehicleBox all_points;
+  all_points.footprint_check = VehicleBox::FootprintCheck::kAllPoints;
+  VehicleBox wheels = all_points;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  const Pose2 pose{0.0, 0.0, 0.0};  // rear axle at the origin, front axle at x = 1.9, wheels at y = +-0.6
+  const auto none = [](double, double) { return false; };
+
+  // A non-traversable strip across, between the axles (a shadow's rim on the ground).
+  const VertexCloudMap strip = FlatGround([](double x, double) { return x > 0.85 && x < 1.05; }, none);
+  EXPECT_EQ(CheckPose(strip, all_points, pose), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(strip, wheels, pose), PoseCheck::kValid);
+
+  // The same strip under the front axle: the front wheels stand on it.
+  const VertexCloudMap under_axle = FlatGround([](double x, double) { return x > 1.8 && x < 2.0; }, none);
+  EXPECT_EQ(CheckPose(under_axle, wheels, pose), PoseCheck::kGroundUnderFootprint);
+
+  // A hole (no visible point within wheel_support_m) under the left front wheel.
+  const VertexCloudMap hole = FlatGround(none, [](double x, double y) { return std::hypot(x - 1.9, y - 0.6) < 0.7; });
+  EXPECT_EQ(CheckPose(hole, wheels, pose), PoseCheck::kGroundUnderFootprint);
+  // The hole is beside the pose's origin, which still projects onto the ground.
+  EXPECT_TRUE(hole.Project(pose).has_value());
+
+  // Clean ground under the whole box.
+  const VertexCloudMap clean = FlatGround(none, none);
+  EXPECT_EQ(CheckPose(clean, wheels, pose), PoseCheck::kValid);
+}
+
 TEST(VertexCloudMapTest, ProjectsOntoTheSlopeAlignedToItsNormalKeepingTheHeading) {
   const double slope = DegToRad(5.0);
   const PlanningScene scene = BuildScene(testing::SlopeScene(5.0));

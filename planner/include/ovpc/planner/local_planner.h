@@ -1,6 +1,7 @@
 // The local planner: OMPL RRTConnect in a Reeds-Shepp space on a PlanningMap.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -27,6 +28,9 @@ struct PlanResult {
   std::vector<Pose2> waypoints;              ///< the simplified OMPL path (Reeds-Shepp vertices)
   unsigned iterations = 0;                   ///< planner iterations used out of the budget
   std::size_t raw_states = 0;                ///< states on the path before simplification
+  /// States the validity checker saw during the search, by outcome (index: PoseCheck), so a user can
+  /// tell which check stops the planner (outside the map, non-traversable ground, box collision).
+  std::array<std::size_t, kNumPoseChecks> state_checks{};
   bool found() const { return status == PlanStatus::kFound; }
 };
 

@@ -1,6 +1,7 @@
 // The narrow map interface the planner sees, the vehicle box, and the state validity rule.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 
 #include <Eigen/Geometry>
@@ -20,7 +21,17 @@ struct VehicleBox {
   double ground_clearance_m = 0.2;   ///< the box bottom, above the ground at the pose
   double centre_ahead_m = 0.95;      ///< box centre ahead of the pose origin (the rear axle)
   double footprint_depth_m = 0.5;    ///< non-traversable points down to this depth below the ground
-                                     ///< under the footprint also block the pose
+                                     ///< under the footprint also block the pose (kAllPoints)
+  /// What must hold for the ground under the box, below the ground clearance.
+  enum class FootprintCheck {
+    kAllPoints,  ///< no non-traversable point under the footprint (strict: a shadow's rim blocks)
+    kWheels,     ///< each wheel's contact point lies within wheel_support_m of a traversable visible
+                 ///< point; low non-traversable points between the wheels pass under the chassis
+  };
+  FootprintCheck footprint_check = FootprintCheck::kAllPoints;
+  double wheelbase_m = 1.9;          ///< front axle ahead of the pose origin (kWheels)
+  double track_m = 1.2;              ///< wheel centre to wheel centre across (kWheels)
+  double wheel_support_m = 0.5;      ///< farthest a wheel may be from its nearest visible point (kWheels)
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -44,6 +55,16 @@ struct MapBounds {
   }
 };
 
+/// Outcome of the validity check of one pose, in the order the checks run.
+enum class PoseCheck {
+  kValid,
+  kOutsideMap,      ///< outside the bounds or no map point close enough below the pose
+  kNotTraversable,  ///< projected onto a non-traversable point
+  kCollision,       ///< a map point inside the box, above the ground clearance
+  kGroundUnderFootprint,  ///< a non-traversable point under the footprint
+};
+inline constexpr std::size_t kNumPoseChecks = 5;
+
 /// What the planner needs from a map. Implemented for the OVPC vertex cloud (VertexCloudMap); an
 /// OctoMap or a 2.5D grid can implement it too, for closed-loop comparisons. Implementations must be
 /// deterministic and safe to call concurrently from const methods.
@@ -52,21 +73,18 @@ class PlanningMap {
   virtual ~PlanningMap() = default;
   /// Places the planar pose on the ground, or nothing when the place is outside known free space.
   virtual std::optional<GroundPose> Project(const Pose2& pose) const = 0;
-  /// True if the vehicle box at `ground` holds no map point and no non-traversable point lies under
-  /// its footprint.
-  virtual bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const = 0;
+  /// kValid if the vehicle box at `ground` holds no map point above the ground clearance
+  /// (kCollision otherwise) and no non-traversable point lies under its footprint
+  /// (kGroundUnderFootprint otherwise).
+  virtual PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const = 0;
+  bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const {
+    return CheckBox(ground, vehicle) == PoseCheck::kValid;
+  }
   /// True if (x, y) is inside known free space on traversable ground.
   virtual bool IsKnownFree(double x_m, double y_m) const = 0;
   virtual MapBounds Bounds() const = 0;
 };
 
-/// Outcome of the validity check of one pose, in the order the checks run.
-enum class PoseCheck {
-  kValid,
-  kOutsideMap,      ///< outside the bounds or no map point close enough below the pose
-  kNotTraversable,  ///< projected onto a non-traversable point
-  kCollision,       ///< a point inside the box or a non-traversable point under the footprint
-};
 const char* PoseCheckName(PoseCheck check);
 
 /// The planner's state validity rule: project, require traversable ground, then a free box.

@@ -32,7 +32,7 @@ class VertexCloudMap final : public PlanningMap {
   VertexCloudMap(TraversabilityCloud cloud, const Config& config);
 
   std::optional<GroundPose> Project(const Pose2& pose) const override;
-  bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const override;
+  PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override;
   bool IsKnownFree(double x_m, double y_m) const override;
   /// The planar bounding box of all visible points (the local mesh extent).
   MapBounds Bounds() const override { return bounds_; }

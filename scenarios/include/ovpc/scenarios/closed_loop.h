@@ -2,6 +2,7 @@
 // pure pursuit -> vehicle, all driven by simulated time, and the scoring of the run.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -43,6 +44,20 @@ struct MapPoint {
   bool traversable = false;
 };
 
+/// One planner call of a run, for plans.csv: where the vehicle was, where the local goal was (both in
+/// the world frame, by the truth at that time) and how the search went.
+struct PlanRecord {
+  double time_s = 0.0;
+  std::string reason;              ///< the re-planning trigger
+  Eigen::Vector3d vehicle_W{0, 0, 0};  ///< x, y, yaw
+  bool has_goal = false;
+  Eigen::Vector3d goal_W{0, 0, 0};     ///< x, y, yaw of the local goal
+  double goal_progress_m = 0.0;    ///< route progress of the local goal
+  std::string outcome;
+  unsigned iterations = 0;
+  std::array<std::size_t, planner::kNumPoseChecks> state_checks{};  ///< by planner::PoseCheck
+};
+
 struct RunResult {
   std::string scenario;
   std::uint64_t seed = 0;
@@ -63,6 +78,7 @@ struct RunResult {
   std::size_t collision_steps = 0;
   std::vector<std::string> collisions;  ///< first contacts: time, vehicle geom, world geom
   std::vector<TrajectorySample> trajectory;
+  std::vector<PlanRecord> plan_log;
   std::vector<MapPoint> map_points;     ///< the maps' points over the run (subsampled), world frame
   std::vector<std::string> files;       ///< files written (mesh snapshots, frames)
   StageStats physics_lidar, buffer, mapper, planner, controller;

@@ -15,6 +15,9 @@ void WriteResultJson(const Scenario& scenario, const RunResult& result, const st
 
 /// trajectory.csv: time, true pose, odometry pose, speed and commands, one row per record.
 void WriteTrajectoryCsv(const RunResult& result, const std::string& path);
+/// One row per planner call: time, trigger, vehicle and local goal (world frame), outcome,
+/// iterations and how many sampled states each validity check rejected.
+void WritePlansCsv(const RunResult& result, const std::string& path);
 
 /// topdown.png: terrain shading, objects, route, goal, forbidden regions, the mapped points coloured
 /// by traversability, and the driven path.
