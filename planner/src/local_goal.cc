@@ -50,6 +50,10 @@ void LocalGoalConfig::Validate() const {
   if (!(min_distance_m >= 0.0) || !std::isfinite(min_distance_m)) {
     throw std::invalid_argument("LocalGoalConfig: min_distance_m must be >= 0, got " + std::to_string(min_distance_m));
   }
+  if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
+    throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
+                                std::to_string(keep_previous_within_m));
+  }
   if (!(step_m > 0.0) || !std::isfinite(step_m)) {
     throw std::invalid_argument("LocalGoalConfig: step_m must be > 0, got " + std::to_string(step_m));
   }
@@ -58,7 +62,8 @@ void LocalGoalConfig::Validate() const {
 std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
                                          const std::vector<Eigen::Vector2d>& route_O,
                                          const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                         const LocalGoalConfig& config) {
+                                         const LocalGoalConfig& config,
+                                         const std::optional<LocalGoal>& previous_L) {
   config.Validate();
   const std::vector<RoutePoint> route = Resample(route_O, T_L_O, config.step_m);
   if (route.empty()) return std::nullopt;
@@ -77,20 +82,30 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
     offsets.push_back(d);
     offsets.push_back(-d);
   }
-  for (double offset : offsets) {
-    for (std::size_t i = route.size(); i-- > closest;) {
-      const RoutePoint& r = route[i];
-      const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
-      const Eigen::Vector2d p = r.position + offset * side;
-      const bool is_end = r.is_end && offset == 0.0;
-      if (!is_end && (p - here).norm() < config.min_distance_m) continue;
-      if (!map.IsKnownFree(p.x(), p.y())) continue;
-      const Pose2 pose{p.x(), p.y(), r.yaw_rad};
-      if (config.require_vehicle_fit && CheckPose(map, vehicle, pose) != PoseCheck::kValid) continue;
-      return LocalGoal{pose, r.progress_m, is_end};
+  const auto qualifies = [&](const Pose2& pose, bool is_end) {
+    if (!is_end && (Eigen::Vector2d(pose.x_m, pose.y_m) - here).norm() < config.min_distance_m) return false;
+    if (!map.IsKnownFree(pose.x_m, pose.y_m)) return false;
+    return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
+  };
+  const auto search = [&]() -> std::optional<LocalGoal> {
+    for (double offset : offsets) {
+      for (std::size_t i = route.size(); i-- > closest;) {
+        const RoutePoint& r = route[i];
+        const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
+        const Eigen::Vector2d p = r.position + offset * side;
+        const bool is_end = r.is_end && offset == 0.0;
+        const Pose2 pose{p.x(), p.y(), r.yaw_rad};
+        if (qualifies(pose, is_end)) return LocalGoal{pose, r.progress_m, is_end};
+      }
     }
+    return std::nullopt;
+  };
+  const std::optional<LocalGoal> goal = search();
+  if (previous_L && config.keep_previous_within_m > 0.0 && qualifies(previous_L->pose, previous_L->is_route_end) &&
+      (!goal || goal->route_progress_m <= previous_L->route_progress_m + config.keep_previous_within_m)) {
+    return previous_L;
   }
-  return std::nullopt;
+  return goal;
 }
 
 }  // namespace ovpc::planner

@@ -38,4 +38,23 @@ std::vector<PathPose> Path::Poses() const {
   return out;
 }
 
+Path Path::Slice(std::size_t first, std::size_t last) const {
+  Path out;
+  std::size_t index = 0;  // Poses() index of the segment's first pose
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const auto& poses = segments[s].poses;
+    // Segment s covers Poses() indices [begin, begin + size - 1]; after the first, its first pose is
+    // the previous segment's last (the cusp).
+    const std::size_t begin = s == 0 ? 0 : index - 1;
+    PathSegment piece{segments[s].direction, {}};
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      const std::size_t i = begin + k;
+      if (i >= first && i <= last) piece.poses.push_back(poses[k]);
+    }
+    index = begin + poses.size();
+    if (piece.poses.size() >= 2) out.segments.push_back(std::move(piece));
+  }
+  return out;
+}
+
 }  // namespace ovpc::planner

@@ -168,6 +168,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   std::optional<controller::PurePursuit> follower;
   planner::Path path_O;
   std::optional<Eigen::Vector2d> goal_O;
+  std::optional<planner::LocalGoal> last_goal_O;  // the last goal a path was found to, frame O
   bool goal_is_route_end = false;
   std::optional<double> last_plan_s;
   controller::Command command;
@@ -268,6 +269,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         const Vec3 L_to_O = cloud.T_O_L.translation();
 
         bool blocked = false;
+        std::size_t path_closest = 0, blocked_index = 0;
         if (follower && !follower->done()) {
           // Poses already driven past do not count: check from the pose closest to the vehicle on.
           const auto poses = path_O.Poses();
@@ -278,8 +280,30 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
             const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
             if (d < best) best = d, closest = i;
           }
-          blocked = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O), closest).has_value();
+          path_closest = closest;
+          const auto invalid = local_planner.FirstInvalidPose(vmap, Shifted(path_O, -L_to_O), closest);
+          blocked = invalid.has_value();
+          if (invalid) blocked_index = *invalid;
         }
+        // A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to
+        // `kStopShortM` before it, or stand still if that is where the vehicle is.
+        const auto keep_valid_prefix = [&]() {
+          constexpr double kStopShortM = 0.5;
+          const auto poses = path_O.Poses();
+          std::size_t last = blocked_index;
+          double back = 0.0;
+          while (last > path_closest && back < kStopShortM) {
+            back += std::hypot(poses[last].pose.x_m - poses[last - 1].pose.x_m, poses[last].pose.y_m - poses[last - 1].pose.y_m);
+            --last;
+          }
+          planner::Path prefix = back >= kStopShortM ? path_O.Slice(path_closest, last) : planner::Path{};
+          if (prefix.empty() || prefix.Length() < 0.3) {
+            follower.reset();
+            return;
+          }
+          path_O = std::move(prefix);
+          follower.emplace(scenario.controller, path_O);
+        };
         planner::ReplanInputs in;
         in.now_s = time;
         in.last_plan_s = last_plan_s;
@@ -289,8 +313,15 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         in.goal_is_route_end = goal_is_route_end;
         const planner::ReplanReason reason = planner::CheckReplan(scenario.replan, in);
         if (reason != planner::ReplanReason::kNone) {
-          const std::optional<planner::LocalGoal> goal =
-              planner::SelectLocalGoal(vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal);
+          std::optional<planner::LocalGoal> previous_L;
+          if (last_goal_O) {
+            previous_L = *last_goal_O;
+            const Vec3 p_L = T_L_O * Vec3(last_goal_O->pose.x_m, last_goal_O->pose.y_m, 0.0);
+            previous_L->pose.x_m = p_L.x();
+            previous_L->pose.y_m = p_L.y();
+          }
+          const std::optional<planner::LocalGoal> goal = planner::SelectLocalGoal(
+              vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal, previous_L);
           last_plan_s = time;
           const Eigen::Isometry3d T_W_L = T_W_B * T_L_B.inverse();
           const auto to_world = [&T_W_L](const Pose2& p) {
@@ -302,6 +333,12 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
           record.time_s = time;
           record.reason = planner::ReplanReasonName(reason);
           record.vehicle_W = to_world(vehicle_L);
+          if (blocked) {
+            const planner::PathPose at = path_O.Poses()[blocked_index];
+            const Pose2 at_L{at.pose.x_m - L_to_O.x(), at.pose.y_m - L_to_O.y(), at.pose.yaw_rad};
+            record.blocked_at_m = std::hypot(at_L.x_m - vehicle_L.x_m, at_L.y_m - vehicle_L.y_m);
+            record.blocked_by = planner::PoseCheckName(planner::CheckPose(vmap, planner_config.vehicle, at_L));
+          }
           if (goal) {
             ++result.plans;
             const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal->pose);
@@ -321,13 +358,16 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
               follower.emplace(scenario.controller, path_O);
               goal_O = Eigen::Vector2d(goal->pose.x_m + L_to_O.x(), goal->pose.y_m + L_to_O.y());
               goal_is_route_end = goal->is_route_end;
+              last_goal_O = *goal;
+              last_goal_O->pose.x_m = goal_O->x();
+              last_goal_O->pose.y_m = goal_O->y();
             } else if (blocked) {
-              follower.reset();  // the old path runs into something: stand still until a plan is found
+              keep_valid_prefix();  // the old path runs into something: drive only its valid part
             }
           } else {
             ++result.plan_outcomes["no_local_goal"];
             record.outcome = "no_local_goal";
-            if (blocked) follower.reset();
+            if (blocked) keep_valid_prefix();
           }
           result.plan_log.push_back(record);
         }

@@ -137,7 +137,7 @@ void WriteTrajectoryCsv(const RunResult& r, const std::string& path) {
 void WritePlansCsv(const RunResult& r, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot open for writing");
-  out << "time_s,reason,vehicle_x_m,vehicle_y_m,vehicle_yaw_rad,goal_x_m,goal_y_m,goal_yaw_rad,goal_progress_m,outcome,"
+  out << "time_s,reason,blocked_at_m,blocked_by,vehicle_x_m,vehicle_y_m,vehicle_yaw_rad,goal_x_m,goal_y_m,goal_yaw_rad,goal_progress_m,outcome,"
          "iterations";
   for (std::size_t c = 0; c < planner::kNumPoseChecks; ++c) {
     std::string name = planner::PoseCheckName(static_cast<planner::PoseCheck>(c));
@@ -146,7 +146,7 @@ void WritePlansCsv(const RunResult& r, const std::string& path) {
   }
   out << "\n" << std::setprecision(9);
   for (const PlanRecord& p : r.plan_log) {
-    out << p.time_s << "," << p.reason << "," << p.vehicle_W.x() << "," << p.vehicle_W.y() << "," << p.vehicle_W.z() << ",";
+    out << p.time_s << "," << p.reason << "," << p.blocked_at_m << "," << p.blocked_by << "," << p.vehicle_W.x() << "," << p.vehicle_W.y() << "," << p.vehicle_W.z() << ",";
     if (p.has_goal) {
       out << p.goal_W.x() << "," << p.goal_W.y() << "," << p.goal_W.z() << "," << p.goal_progress_m;
     } else {

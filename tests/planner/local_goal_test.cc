@@ -93,5 +93,33 @@ TEST(LocalGoalTest, NothingBehindTheVehicle) {
   EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, {}, kIdentity, Pose2{}, LocalGoalConfig{}));
 }
 
+TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFurther) {
+  const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {20.0, 0.0}};
+  LocalGoalConfig config;
+  const auto fresh = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(fresh.has_value());
+  // A previous goal beside the route, 1 m short of the new one.
+  LocalGoal previous{Pose2{fresh->pose.x_m - 1.0, 1.5, 0.0}, fresh->route_progress_m - 1.0, false};
+  config.keep_previous_within_m = 0.0;  // off: the new goal
+  auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
+  config.keep_previous_within_m = 1.5;  // the new goal is not 1.5 m further: keep the previous one
+  goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_NEAR(goal->pose.y_m, 1.5, 1e-12);
+  EXPECT_NEAR(goal->route_progress_m, previous.route_progress_m, 1e-12);
+  config.keep_previous_within_m = 0.5;  // it is more than 0.5 m further: take it
+  goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
+  // A previous goal that no longer qualifies (outside the map) is dropped.
+  config.keep_previous_within_m = 100.0;
+  const LocalGoal gone{Pose2{60.0, 0.0, 0.0}, 67.0, false};
+  goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, gone);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_NEAR(goal->pose.x_m, fresh->pose.x_m, 1e-12);
+}
+
 }  // namespace
 }  // namespace ovpc::planner

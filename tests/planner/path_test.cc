@@ -43,5 +43,29 @@ TEST(PathTest, PosesListsCuspsOnceAndLengthsAddUp) {
   EXPECT_STREQ(DirectionName(Direction::kReverse), "reverse");
 }
 
+TEST(PathTest, SliceKeepsSegmentsAndCuspsOfTheRange) {
+  Path path;
+  path.segments.push_back({Direction::kForward, {{{0, 0, 0}, 0}, {{1, 0, 0}, 0}, {{2, 0, 0}, 0}}});
+  path.segments.push_back({Direction::kReverse, {{{2, 0, 0}, 0}, {{2, 1, 0}, 0}, {{2, 2, 0}, 0}}});
+  // Poses(): (0,0) (1,0) (2,0)=cusp (2,1) (2,2)
+  const Path all = path.Slice(0, 4);
+  ASSERT_EQ(all.segments.size(), 2u);
+  EXPECT_DOUBLE_EQ(all.Length(), 4.0);
+  const Path across = path.Slice(1, 3);  // (1,0) (2,0) forward, then (2,0) (2,1) reverse
+  ASSERT_EQ(across.segments.size(), 2u);
+  EXPECT_EQ(across.segments[0].direction, Direction::kForward);
+  EXPECT_EQ(across.segments[1].direction, Direction::kReverse);
+  EXPECT_DOUBLE_EQ(across.Length(), 2.0);
+  EXPECT_EQ(across.Poses().size(), 3u);
+  const Path first = path.Slice(0, 2);  // up to the cusp: forward only
+  ASSERT_EQ(first.segments.size(), 1u);
+  EXPECT_DOUBLE_EQ(first.Length(), 2.0);
+  const Path second = path.Slice(2, 4);  // from the cusp: reverse only
+  ASSERT_EQ(second.segments.size(), 1u);
+  EXPECT_EQ(second.segments[0].direction, Direction::kReverse);
+  EXPECT_TRUE(path.Slice(3, 3).empty());   // one pose is no path
+  EXPECT_TRUE(path.Slice(9, 12).empty());  // past the end
+}
+
 }  // namespace
 }  // namespace ovpc::planner

@@ -24,6 +24,10 @@ struct LocalGoalConfig {
   /// it) are tried as well, nearest offset first: the route may run through a post's shadow while
   /// the ground beside it is known. Empty: the route only (the paper's rule).
   std::vector<double> lateral_offsets_m;
+  /// Keep the previous goal, if it still qualifies, unless the new one lies more than this much
+  /// further along the route: goals flickering between the two sides of a post make paths that
+  /// undo each other. 0: always take the new goal (the paper's rule).
+  double keep_previous_within_m = 0.0;
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -44,9 +48,11 @@ struct LocalGoal {
 /// @param T_L_O the odometry frame in the map frame (the mapper's frame L has the axes of O, so this is
 ///        usually a translation).
 /// @param vehicle_L the vehicle pose in the map frame.
+/// @param previous_L the goal chosen last time, in the map frame (see keep_previous_within_m).
 std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
                                          const std::vector<Eigen::Vector2d>& route_O,
                                          const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                         const LocalGoalConfig& config);
+                                         const LocalGoalConfig& config,
+                                         const std::optional<LocalGoal>& previous_L = std::nullopt);
 
 }  // namespace ovpc::planner

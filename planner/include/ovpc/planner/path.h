@@ -47,6 +47,9 @@ struct Path {
   /// Every pose once, in driving order (cusp poses are not repeated).
   std::vector<PathPose> Poses() const;
   int NumCusps() const { return segments.empty() ? 0 : static_cast<int>(segments.size()) - 1; }
+  /// The poses `first` to `last` (indices into Poses(), inclusive) with their segments and cusps; an
+  /// empty path when fewer than two poses remain.
+  Path Slice(std::size_t first, std::size_t last) const;
 };
 
 }  // namespace ovpc::planner

@@ -49,6 +49,8 @@ struct MapPoint {
 struct PlanRecord {
   double time_s = 0.0;
   std::string reason;              ///< the re-planning trigger
+  double blocked_at_m = 0.0;       ///< path blocked: straight-line distance to the first invalid pose
+  std::string blocked_by;          ///< path blocked: the check that failed there (planner::PoseCheckName)
   Eigen::Vector3d vehicle_W{0, 0, 0};  ///< x, y, yaw
   bool has_goal = false;
   Eigen::Vector3d goal_W{0, 0, 0};     ///< x, y, yaw of the local goal
