@@ -48,7 +48,9 @@ void ClassifyFaces(const TraversabilityConfig& config, FreeSpaceMesh* mesh) {
     const double spread = std::max({ha, hb, hc}) - std::min({ha, hb, hc});
     // angle < alpha_max  <=>  cos(angle) > cos(alpha_max); ceilings have cos(angle) < 0.
     const double cos_angle = normal.dot(config.up);
-    const bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > 0.0);
+    // Below the noise floor only faces looking down more than 60 deg (ceilings, the underside of a
+    // roof) keep the angle test: folds of noisy ground stand on edge or lean over a little.
+    const bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > -0.5);
     const bool low_step = spread < config.delta_h_max_m;
     mesh->face_traversable[f] = (flat_enough && low_step && !mesh->TouchesViewpoint(f)) ? 1 : 0;
   }

@@ -61,6 +61,7 @@ TEST(TraversabilityTest, NoiseFloorJudgesLowSliversByHeightAlone) {
   FreeSpaceMesh sliver = TiltedTriangle(DegToRad(40.0), 0.05);
   FreeSpaceMesh ceiling = TiltedTriangle(DegToRad(140.0), 0.05);
   FreeSpaceMesh slope = TiltedTriangle(DegToRad(40.0), 1.0);  // spans 0.64 m: a real slope
+  FreeSpaceMesh fold = TiltedTriangle(DegToRad(100.0), 0.04);  // on edge, leaning over: noise
   TraversabilityConfig paper;
   ClassifyFaces(paper, &sliver);
   EXPECT_EQ(sliver.face_traversable[0], 0);
@@ -69,7 +70,9 @@ TEST(TraversabilityTest, NoiseFloorJudgesLowSliversByHeightAlone) {
   ClassifyFaces(noisy, &sliver);
   ClassifyFaces(noisy, &ceiling);
   ClassifyFaces(noisy, &slope);
+  ClassifyFaces(noisy, &fold);
   EXPECT_EQ(sliver.face_traversable[0], 1);
+  EXPECT_EQ(fold.face_traversable[0], 1) << "a low fold of noisy ground is ground";
   EXPECT_EQ(ceiling.face_traversable[0], 0) << "a face looking down is never ground";
   EXPECT_EQ(slope.face_traversable[0], 0);
   noisy.noise_floor_m = 0.3;  // not below delta_h_max
