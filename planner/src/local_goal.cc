@@ -50,6 +50,10 @@ void LocalGoalConfig::Validate() const {
   if (!(min_distance_m >= 0.0) || !std::isfinite(min_distance_m)) {
     throw std::invalid_argument("LocalGoalConfig: min_distance_m must be >= 0, got " + std::to_string(min_distance_m));
   }
+  if (!(lateral_offset_penalty >= 0.0) || !std::isfinite(lateral_offset_penalty)) {
+    throw std::invalid_argument("LocalGoalConfig: lateral_offset_penalty must be >= 0, got " +
+                                std::to_string(lateral_offset_penalty));
+  }
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
     throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));
@@ -87,18 +91,28 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
     if (!map.IsKnownFree(pose.x_m, pose.y_m)) return false;
     return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
   };
+  // The farthest point that qualifies on the route and on each offset line beside it; of those, the
+  // one with the most progress less the offset's penalty.
   const auto search = [&]() -> std::optional<LocalGoal> {
+    std::optional<LocalGoal> best;
+    double best_score = -std::numeric_limits<double>::infinity();
     for (double offset : offsets) {
+      const double penalty = config.lateral_offset_penalty * std::abs(offset);
       for (std::size_t i = route.size(); i-- > closest;) {
         const RoutePoint& r = route[i];
+        if (r.progress_m - penalty <= best_score) break;  // nothing nearer can win
         const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
         const Eigen::Vector2d p = r.position + offset * side;
         const bool is_end = r.is_end && offset == 0.0;
         const Pose2 pose{p.x(), p.y(), r.yaw_rad};
-        if (qualifies(pose, is_end)) return LocalGoal{pose, r.progress_m, is_end};
+        if (qualifies(pose, is_end)) {
+          best = LocalGoal{pose, r.progress_m, is_end};
+          best_score = r.progress_m - penalty;
+          break;
+        }
       }
     }
-    return std::nullopt;
+    return best;
   };
   const std::optional<LocalGoal> goal = search();
   if (previous_L && config.keep_previous_within_m > 0.0 && qualifies(previous_L->pose, previous_L->is_route_end) &&

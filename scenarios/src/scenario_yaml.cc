@@ -392,6 +392,9 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   s.local_goal.min_distance_m = 2.5;
   s.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
   s.local_goal.keep_previous_within_m = 1.0;
+  // Short tree extensions: with OMPL's default (a fifth of the map's extent, ~8 m) nearly every
+  // extension among posts and shadows fails its motion check (docs/CLOSED_LOOP.md).
+  s.planner.range_m = 1.0;
   // The wheels' footprint rule (docs/CLOSED_LOOP.md), with the Gator's axles.
   s.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
   MapReader r(root, "", file);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ovpc/planner/vertex_cloud_map.h"
 #include "planning_scenes.h"
 
 namespace ovpc::planner {
@@ -119,6 +120,61 @@ TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFur
   goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, gone);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.x_m, fresh->pose.x_m, 1e-12);
+}
+
+// Flat ground every 0.1 m over [-4, 12] x [-8, 8] and a wall 2 m high across y in [-3, 3] at x = 5
+// with no ground behind it (|y| < 3.5): the route along y = 0 is blocked, the ground beside the wall
+// is open.
+VertexCloudMap WallAcrossTheRoute() {
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  for (int i = -40; i <= 120; ++i) {
+    for (int j = -80; j <= 80; ++j) {
+      if (i > 50 && std::abs(j) < 35) continue;  // hidden behind the wall
+      points.emplace_back(0.1 * i, 0.1 * j, 0.0);
+      normals.push_back(Vec3::UnitZ());
+      traversable.push_back(1);
+    }
+  }
+  for (int j = -30; j <= 30; ++j) {
+    for (int k = 1; k <= 20; ++k) {
+      points.emplace_back(5.0, 0.1 * j, 0.1 * k);
+      normals.push_back(-Vec3::UnitX());
+      traversable.push_back(0);
+    }
+  }
+  return VertexCloudMap(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{});
+}
+
+TEST(LocalGoalTest, AWideOffsetWinsWhenItGetsMuchFurther) {
+  const VertexCloudMap map = WallAcrossTheRoute();
+  const std::vector<Eigen::Vector2d> route = {{-3.0, 0.0}, {30.0, 0.0}};
+  LocalGoalConfig config;
+  config.min_distance_m = 2.0;
+  config.lateral_offsets_m = {1.5, 4.5};
+  // On the route and 1.5 m beside it the map ends at the wall; 4.5 m beside it the vehicle passes
+  // the wall (box half width 0.85 m) and gets to the far end of the map.
+  const Pose2 start{-3.0, 0.0, 0.0};
+  const auto wide = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(wide.has_value());
+  EXPECT_NEAR(wide->pose.y_m, 4.5, 1e-12);
+  EXPECT_GT(wide->pose.x_m, 8.0);
+  EXPECT_EQ(CheckPose(map, VehicleBox{}, wide->pose), PoseCheck::kValid);
+  // On the route itself the goal is no further than just behind the wall, reached by projecting
+  // onto the ground at the wall's foot.
+  config.lateral_offsets_m.clear();
+  const auto on_route = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(on_route.has_value());
+  EXPECT_NEAR(on_route->pose.y_m, 0.0, 1e-12);
+  EXPECT_LT(on_route->pose.x_m, 6.0);
+  // With a heavy penalty per metre of offset the near offset wins after all.
+  config.lateral_offsets_m = {1.5, 4.5};
+  config.lateral_offset_penalty = 100.0;
+  const auto near = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(near.has_value());
+  EXPECT_NEAR(near->pose.y_m, 0.0, 1e-12);
+  EXPECT_NEAR(near->pose.x_m, on_route->pose.x_m, 1e-12);
 }
 
 }  // namespace

@@ -20,10 +20,13 @@ struct LocalGoalConfig {
   /// Also require that the vehicle box fits at the goal (CheckPose), not only that the place is
   /// known free, so that the planner does not reject the goal.
   bool require_vehicle_fit = true;
-  /// When no route point qualifies, points this far to either side of the route (perpendicular to
-  /// it) are tried as well, nearest offset first: the route may run through a post's shadow while
-  /// the ground beside it is known. Empty: the route only (the paper's rule).
+  /// Points this far to either side of the route (perpendicular to it) are candidates too: the route
+  /// may run through a post's shadow, or under a roof too low to pass, while the ground beside it is
+  /// known. Empty: the route only (the paper's rule).
   std::vector<double> lateral_offsets_m;
+  /// Among the offsets, the goal with the most route progress less this many metres per metre of
+  /// offset wins (ties: the smaller offset): a wide detour is taken when it gets much further.
+  double lateral_offset_penalty = 0.5;
   /// Keep the previous goal, if it still qualifies, unless the new one lies more than this much
   /// further along the route: goals flickering between the two sides of a post make paths that
   /// undo each other. 0: always take the new goal (the paper's rule).
@@ -40,8 +43,9 @@ struct LocalGoal {
 
 /// The farthest point along the route, ahead of the vehicle, that is inside known free space and
 /// traversable (and, by default, where the vehicle fits) and at least `min_distance_m` from the
-/// vehicle. The route's last waypoint qualifies at any distance. If no route point qualifies, the
-/// same search runs over points offset sideways by `lateral_offsets_m`. "Ahead" means past the route point
+/// vehicle. The route's last waypoint qualifies at any distance. With `lateral_offsets_m`, the same
+/// search runs over points offset sideways, and the goal with the most progress less
+/// `lateral_offset_penalty` per metre of offset wins. "Ahead" means past the route point
 /// closest to the vehicle. Nothing if no route point qualifies.
 ///
 /// @param route_O waypoints in the odometry frame O, in driving order.
