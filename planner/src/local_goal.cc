@@ -63,14 +63,15 @@ void LocalGoalConfig::Validate() const {
   }
 }
 
-std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
-                                         const std::vector<Eigen::Vector2d>& route_O,
-                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                         const LocalGoalConfig& config,
-                                         const std::optional<LocalGoal>& previous_L) {
+std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox& vehicle,
+                                        const std::vector<Eigen::Vector2d>& route_O,
+                                        const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
+                                        const LocalGoalConfig& config, const std::optional<LocalGoal>& previous_L,
+                                        std::size_t max_count) {
   config.Validate();
+  std::vector<LocalGoal> goals;
   const std::vector<RoutePoint> route = Resample(route_O, T_L_O, config.step_m);
-  if (route.empty()) return std::nullopt;
+  if (route.empty() || max_count == 0) return goals;
   const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
 
   // "Ahead" starts at the route point closest to the vehicle.
@@ -91,35 +92,47 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
     if (!map.IsKnownFree(pose.x_m, pose.y_m)) return false;
     return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
   };
-  // The farthest point that qualifies on the route and on each offset line beside it; of those, the
-  // one with the most progress less the offset's penalty.
-  const auto search = [&]() -> std::optional<LocalGoal> {
-    std::optional<LocalGoal> best;
-    double best_score = -std::numeric_limits<double>::infinity();
-    for (double offset : offsets) {
-      const double penalty = config.lateral_offset_penalty * std::abs(offset);
-      for (std::size_t i = route.size(); i-- > closest;) {
-        const RoutePoint& r = route[i];
-        if (r.progress_m - penalty <= best_score) break;  // nothing nearer can win
-        const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
-        const Eigen::Vector2d p = r.position + offset * side;
-        const bool is_end = r.is_end && offset == 0.0;
-        const Pose2 pose{p.x(), p.y(), r.yaw_rad};
-        if (qualifies(pose, is_end)) {
-          best = LocalGoal{pose, r.progress_m, is_end};
-          best_score = r.progress_m - penalty;
-          break;
-        }
+  // The farthest point that qualifies on the route and on each offset line beside it, ranked by
+  // progress less the offset's penalty (ties: the smaller offset, tried first).
+  struct Scored {
+    LocalGoal goal;
+    double score;
+  };
+  std::vector<Scored> scored;
+  for (double offset : offsets) {
+    const double penalty = config.lateral_offset_penalty * std::abs(offset);
+    for (std::size_t i = route.size(); i-- > closest;) {
+      const RoutePoint& r = route[i];
+      const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
+      const Eigen::Vector2d p = r.position + offset * side;
+      const bool is_end = r.is_end && offset == 0.0;
+      const Pose2 pose{p.x(), p.y(), r.yaw_rad};
+      if (qualifies(pose, is_end)) {
+        scored.push_back({LocalGoal{pose, r.progress_m, is_end}, r.progress_m - penalty});
+        break;
       }
     }
-    return best;
-  };
-  const std::optional<LocalGoal> goal = search();
-  if (previous_L && config.keep_previous_within_m > 0.0 && qualifies(previous_L->pose, previous_L->is_route_end) &&
-      (!goal || goal->route_progress_m <= previous_L->route_progress_m + config.keep_previous_within_m)) {
-    return previous_L;
   }
-  return goal;
+  std::stable_sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
+  if (previous_L && config.keep_previous_within_m > 0.0 && qualifies(previous_L->pose, previous_L->is_route_end) &&
+      (scored.empty() || scored.front().goal.route_progress_m <= previous_L->route_progress_m + config.keep_previous_within_m)) {
+    goals.push_back(*previous_L);
+  }
+  for (const Scored& s : scored) {
+    if (goals.size() >= max_count) break;
+    goals.push_back(s.goal);
+  }
+  return goals;
+}
+
+std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
+                                         const std::vector<Eigen::Vector2d>& route_O,
+                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
+                                         const LocalGoalConfig& config,
+                                         const std::optional<LocalGoal>& previous_L) {
+  const std::vector<LocalGoal> goals = SelectLocalGoals(map, vehicle, route_O, T_L_O, vehicle_L, config, previous_L, 1);
+  if (goals.empty()) return std::nullopt;
+  return goals.front();
 }
 
 }  // namespace ovpc::planner

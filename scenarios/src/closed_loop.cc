@@ -320,8 +320,9 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
             previous_L->pose.x_m = p_L.x();
             previous_L->pose.y_m = p_L.y();
           }
-          const std::optional<planner::LocalGoal> goal = planner::SelectLocalGoal(
-              vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal, previous_L);
+          const std::vector<planner::LocalGoal> goals = planner::SelectLocalGoals(
+              vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal, previous_L,
+              static_cast<std::size_t>(scenario.loop.goal_candidates));
           last_plan_s = time;
           const Eigen::Isometry3d T_W_L = T_W_B * T_L_B.inverse();
           const auto to_world = [&T_W_L](const Pose2& p) {
@@ -339,37 +340,47 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
             record.blocked_at_m = std::hypot(at_L.x_m - vehicle_L.x_m, at_L.y_m - vehicle_L.y_m);
             record.blocked_by = planner::PoseCheckName(planner::CheckPose(vmap, planner_config.vehicle, at_L));
           }
-          if (goal) {
+          // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
+          bool found = false;
+          for (const planner::LocalGoal& goal : goals) {
             ++result.plans;
-            const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal->pose);
+            const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal.pose);
             std::string outcome = planner::PlanStatusName(plan.status);
             if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
             if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
             ++result.plan_outcomes[outcome];
-            record.has_goal = true;
-            record.goal_W = to_world(goal->pose);
-            record.goal_progress_m = goal->route_progress_m;
-            record.outcome = outcome;
-            record.iterations = plan.iterations;
-            record.state_checks = plan.state_checks;
+            PlanRecord attempt = record;
+            attempt.has_goal = true;
+            attempt.goal_W = to_world(goal.pose);
+            attempt.goal_progress_m = goal.route_progress_m;
+            attempt.outcome = outcome;
+            attempt.iterations = plan.iterations;
+            attempt.state_checks = plan.state_checks;
+            result.plan_log.push_back(attempt);
             if (plan.found()) {
               ++result.replans_found;
               path_O = Shifted(plan.path, L_to_O);
               follower.emplace(scenario.controller, path_O);
-              goal_O = Eigen::Vector2d(goal->pose.x_m + L_to_O.x(), goal->pose.y_m + L_to_O.y());
-              goal_is_route_end = goal->is_route_end;
-              last_goal_O = *goal;
+              goal_O = Eigen::Vector2d(goal.pose.x_m + L_to_O.x(), goal.pose.y_m + L_to_O.y());
+              goal_is_route_end = goal.is_route_end;
+              last_goal_O = goal;
               last_goal_O->pose.x_m = goal_O->x();
               last_goal_O->pose.y_m = goal_O->y();
-            } else if (blocked) {
-              keep_valid_prefix();  // the old path runs into something: drive only its valid part
+              found = true;
+              break;
             }
-          } else {
+            // A start the planner rejects is rejected for every goal.
+            if (plan.status == planner::PlanStatus::kStartInvalid) break;
+          }
+          if (goals.empty()) {
             ++result.plan_outcomes["no_local_goal"];
             record.outcome = "no_local_goal";
-            if (blocked) keep_valid_prefix();
+            result.plan_log.push_back(record);
           }
-          result.plan_log.push_back(record);
+          if (!found) {
+            last_goal_O.reset();  // no path to it: do not hold on to it
+            if (blocked) keep_valid_prefix();  // the old path runs into something: drive only its valid part
+          }
         }
         t_planner.Add(MsSince(t));
 

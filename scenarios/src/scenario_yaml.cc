@@ -281,6 +281,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("record_rate_hz", &s->loop.record_rate_hz);
     m.Get("mesh_snapshot_period_s", &s->loop.mesh_snapshot_period_s);
     m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
+    m.Get("goal_candidates", &s->loop.goal_candidates);
     m.Finish();
   }
   r.Finish();
@@ -359,6 +360,7 @@ void Scenario::Validate() const {
     fail("params.loop rates must be > 0");
   }
   if (loop.mesh_snapshot_period_s < 0.0) fail("params.loop.mesh_snapshot_period_s must be >= 0");
+  if (loop.goal_candidates < 1) fail("params.loop.goal_candidates must be >= 1");
   if (criteria.goal_radius_m <= 0.0) fail("criteria.goal.radius_m must be > 0");
   for (const Region& r : criteria.forbidden) {
     if (!(r.min_m.array() < r.max_m.array()).all()) fail("criteria.forbidden '" + r.name + "': min_m must be below max_m");

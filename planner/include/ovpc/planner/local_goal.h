@@ -59,4 +59,13 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
                                          const LocalGoalConfig& config,
                                          const std::optional<LocalGoal>& previous_L = std::nullopt);
 
+/// The candidates SelectLocalGoal ranks, best first, at most `max_count`: the previous goal (if it
+/// is kept), then the farthest qualifying point of the route and of each offset line by score. When
+/// the planner finds no path to the first, the next is a different way round an obstacle.
+std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox& vehicle,
+                                        const std::vector<Eigen::Vector2d>& route_O,
+                                        const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
+                                        const LocalGoalConfig& config, const std::optional<LocalGoal>& previous_L,
+                                        std::size_t max_count);
+
 }  // namespace ovpc::planner

@@ -50,6 +50,8 @@ struct LoopConfig {
   /// grown by this margin, are added to each map update's cloud from the odometry pose, so that the
   /// planner's start pose projects onto known ground. 0 disables.
   double footprint_prior_margin_m = 0.3;
+  /// Local goal candidates tried per re-plan, best first, until one gives a path.
+  int goal_candidates = 3;
 };
 
 struct Scenario {
