@@ -54,6 +54,7 @@ void LocalGoalConfig::Validate() const {
     throw std::invalid_argument("LocalGoalConfig: lateral_offset_penalty must be >= 0, got " +
                                 std::to_string(lateral_offset_penalty));
   }
+  if (!(max_gap_m > 0.0)) throw std::invalid_argument("LocalGoalConfig: max_gap_m must be > 0");
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
     throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));
@@ -67,19 +68,38 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
                                         const std::vector<Eigen::Vector2d>& route_O,
                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
                                         const LocalGoalConfig& config, const std::optional<LocalGoal>& previous_L,
-                                        std::size_t max_count) {
+                                        std::size_t max_count, std::optional<double> vehicle_progress_m) {
   config.Validate();
   std::vector<LocalGoal> goals;
   const std::vector<RoutePoint> route = Resample(route_O, T_L_O, config.step_m);
   if (route.empty() || max_count == 0) return goals;
   const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
 
-  // "Ahead" starts at the route point closest to the vehicle.
+  // "Ahead" starts at the vehicle's progress, or else at the route point closest to the vehicle.
   std::size_t closest = 0;
-  double closest_distance = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < route.size(); ++i) {
-    const double d = (route[i].position - here).norm();
-    if (d < closest_distance) closest_distance = d, closest = i;
+  if (vehicle_progress_m) {
+    while (closest + 1 < route.size() && route[closest + 1].progress_m <= *vehicle_progress_m) ++closest;
+  } else {
+    double closest_distance = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < route.size(); ++i) {
+      const double d = (route[i].position - here).norm();
+      if (d < closest_distance) closest_distance = d, closest = i;
+    }
+  }
+  // ... and ends where the route has been outside known free space for more than max_gap_m.
+  std::size_t end = route.size();
+  if (std::isfinite(config.max_gap_m)) {
+    double gap_start = -1.0;
+    for (std::size_t i = closest; i < route.size(); ++i) {
+      if (map.IsKnownFree(route[i].position.x(), route[i].position.y())) {
+        gap_start = -1.0;
+      } else if (gap_start < 0.0) {
+        gap_start = route[i].progress_m;
+      } else if (route[i].progress_m - gap_start > config.max_gap_m) {
+        end = i;
+        break;
+      }
+    }
   }
 
   std::vector<double> offsets = {0.0};
@@ -101,7 +121,7 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
   std::vector<Scored> scored;
   for (double offset : offsets) {
     const double penalty = config.lateral_offset_penalty * std::abs(offset);
-    for (std::size_t i = route.size(); i-- > closest;) {
+    for (std::size_t i = end; i-- > closest;) {
       const RoutePoint& r = route[i];
       const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
       const Eigen::Vector2d p = r.position + offset * side;
@@ -133,6 +153,28 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
   const std::vector<LocalGoal> goals = SelectLocalGoals(map, vehicle, route_O, T_L_O, vehicle_L, config, previous_L, 1);
   if (goals.empty()) return std::nullopt;
   return goals.front();
+}
+
+double RouteProgress(const std::vector<Eigen::Vector2d>& route, const Eigen::Vector2d& p, double from_m,
+                     double back_m, double ahead_m) {
+  if (route.size() < 2) return 0.0;
+  const double lo = from_m - back_m, hi = from_m + ahead_m;
+  double best_d = std::numeric_limits<double>::infinity(), best_s = from_m;
+  double s0 = 0.0;
+  for (std::size_t i = 0; i + 1 < route.size(); ++i) {
+    const Eigen::Vector2d a = route[i], ab = route[i + 1] - route[i];
+    const double len = ab.norm();
+    // The part of this leg inside the window, as parameters t in [t_lo, t_hi].
+    const double t_lo = len > 0.0 ? std::max(0.0, (lo - s0) / len) : 0.0;
+    const double t_hi = len > 0.0 ? std::min(1.0, (hi - s0) / len) : 1.0;
+    if (t_lo <= t_hi && s0 <= hi && s0 + len >= lo) {
+      const double t = len > 0.0 ? std::clamp((p - a).dot(ab) / (len * len), t_lo, t_hi) : 0.0;
+      const double d = (a + t * ab - p).norm();
+      if (d < best_d) best_d = d, best_s = s0 + t * len;
+    }
+    s0 += len;
+  }
+  return best_s;
 }
 
 }  // namespace ovpc::planner

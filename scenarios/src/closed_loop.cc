@@ -69,21 +69,6 @@ planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
   return out;
 }
 
-// Progress along a polyline: arc length of the closest point.
-double RouteProgress(const std::vector<Eigen::Vector2d>& route, const Eigen::Vector2d& p) {
-  if (route.size() == 1) return 0.0;
-  double best_d = 1e300, best_s = 0.0, s0 = 0.0;
-  for (std::size_t i = 0; i + 1 < route.size(); ++i) {
-    const Eigen::Vector2d a = route[i], ab = route[i + 1] - route[i];
-    const double len = ab.norm();
-    const double t = len > 0 ? std::clamp((p - a).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
-    const double d = (a + t * ab - p).norm();
-    if (d < best_d) best_d = d, best_s = s0 + t * len;
-    s0 += len;
-  }
-  return best_s;
-}
-
 double RouteLength(const std::vector<Eigen::Vector2d>& route) {
   double s = 0.0;
   for (std::size_t i = 0; i + 1 < route.size(); ++i) s += (route[i + 1] - route[i]).norm();
@@ -168,7 +153,10 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   std::optional<controller::PurePursuit> follower;
   planner::Path path_O;
   std::optional<Eigen::Vector2d> goal_O;
-  std::optional<planner::LocalGoal> last_goal_O;  // the last goal a path was found to, frame O
+  std::optional<planner::LocalGoal> last_goal_O;
+  // Route progress of the true pose (scoring) and of the odometry pose (the robot's local goal).
+  constexpr double kProgressBackM = 5.0, kProgressAheadM = 10.0;
+  double truth_progress_m = 0.0, odom_progress_m = 0.0;  // the last goal a path was found to, frame O
   bool goal_is_route_end = false;
   std::optional<double> last_plan_s;
   controller::Command command;
@@ -222,7 +210,12 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
     max_roll = std::max(max_roll, std::abs(roll));
     max_pitch = std::max(max_pitch, std::abs(pitch));
     const Eigen::Vector2d xy = T_W_B.translation().head<2>();
-    result.route_progress_m = std::max(result.route_progress_m, RouteProgress(scenario.route_m, xy));
+    // Progress is tracked in a window that moves with the vehicle, so that a route passing near
+    // itself (laps side by side) is not scored as done when the vehicle cuts across.
+    truth_progress_m = planner::RouteProgress(scenario.route_m, xy, truth_progress_m, kProgressBackM, kProgressAheadM);
+    result.route_progress_m = std::max(result.route_progress_m, truth_progress_m);
+    odom_progress_m = planner::RouteProgress(route_O, sim.T_O_B().translation().head<2>(), odom_progress_m,
+                                             kProgressBackM, kProgressAheadM);
     const std::vector<sim::BodyContact> contacts = sim.BodyContacts();
     if (!contacts.empty()) {
       ++result.collision_steps;
@@ -322,7 +315,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
           }
           const std::vector<planner::LocalGoal> goals = planner::SelectLocalGoals(
               vmap, planner_config.vehicle, route_O, T_L_O, vehicle_L, scenario.local_goal, previous_L,
-              static_cast<std::size_t>(scenario.loop.goal_candidates));
+              static_cast<std::size_t>(scenario.loop.goal_candidates), odom_progress_m);
           last_plan_s = time;
           const Eigen::Isometry3d T_W_L = T_W_B * T_L_B.inverse();
           const auto to_world = [&T_W_L](const Pose2& p) {

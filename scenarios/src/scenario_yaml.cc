@@ -259,6 +259,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("wheel_support_m", &s->planner.vehicle.wheel_support_m);
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
+    m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);
     m.Get("max_projection_distance_m", &s->map.max_projection_distance_m);
@@ -394,6 +395,7 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   s.local_goal.min_distance_m = 2.5;
   s.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
   s.local_goal.keep_previous_within_m = 1.0;
+  s.local_goal.max_gap_m = 8.0;
   // Short tree extensions: with OMPL's default (a fifth of the map's extent, ~8 m) nearly every
   // extension among posts and shadows fails its motion check (docs/CLOSED_LOOP.md).
   s.planner.range_m = 1.0;

@@ -177,5 +177,36 @@ TEST(LocalGoalTest, AWideOffsetWinsWhenItGetsMuchFurther) {
   EXPECT_NEAR(near->pose.x_m, on_route->pose.x_m, 1e-12);
 }
 
+TEST(LocalGoalTest, RouteProgressInAWindowIsNotFooledByLapsSideBySide) {
+  // Out along y = 0, back along y = 4, out again along y = 2: 0-20, 24-44, 46-66 m of arc length.
+  const std::vector<Eigen::Vector2d> route = {{0, 0}, {20, 0}, {20, 4}, {0, 4}, {0, 2}, {20, 2}};
+  const Eigen::Vector2d p(10.0, 1.9);  // beside the first lap, on the third
+  EXPECT_NEAR(RouteProgress(route, p), 56.0, 1e-9);  // closest of the whole route: the third lap
+  EXPECT_NEAR(RouteProgress(route, p, 9.0, 5.0, 10.0), 10.0, 1e-9);  // tracked from 9 m: the first
+  // The window clamps: a vehicle far ahead of its tracked progress advances to the window's end.
+  EXPECT_NEAR(RouteProgress(route, Eigen::Vector2d(19.0, 0.0), 2.0, 5.0, 10.0), 12.0, 1e-9);
+  EXPECT_NEAR(RouteProgress({{1.0, 1.0}}, p), 0.0, 1e-12);
+}
+
+TEST(LocalGoalTest, CandidatesEndWhereTheRouteLeavesTheMapForLongerThanTheGap) {
+  // The route leaves the flat map (x beyond about 11) and comes back into it on the way home.
+  const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {40.0, 0.0}, {40.0, 3.0}, {-7.0, 3.0}};
+  LocalGoalConfig config;
+  const auto no_limit = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(no_limit.has_value());
+  EXPECT_GT(no_limit->route_progress_m, 50.0);  // on the way home: cuts the route short
+  config.max_gap_m = 8.0;
+  const auto limited = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(limited.has_value());
+  EXPECT_LT(limited->route_progress_m, 20.0);
+  EXPECT_NEAR(limited->pose.y_m, 0.0, 1e-12);
+  // Tracked progress puts "ahead" where the vehicle is along the route, not at the nearest lap.
+  const auto home = SelectLocalGoals(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{5.0, 0.2, 0.0}, config,
+                                     std::nullopt, 1, 80.0);  // at x = 10 on the way home
+  ASSERT_EQ(home.size(), 1u);
+  EXPECT_GT(home.front().route_progress_m, 80.0);
+  EXPECT_NEAR(home.front().pose.y_m, 3.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace ovpc::planner

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -31,6 +32,11 @@ struct LocalGoalConfig {
   /// further along the route: goals flickering between the two sides of a post make paths that
   /// undo each other. 0: always take the new goal (the paper's rule).
   double keep_previous_within_m = 0.0;
+  /// Route points are candidates from the vehicle on until the route has run outside known free
+  /// space for this long: past a longer gap the route may come back into the map further on (laps
+  /// side by side, a loop), and a goal there would cut the route short. Infinite: the whole route
+  /// ahead (the paper's rule).
+  double max_gap_m = std::numeric_limits<double>::infinity();
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -61,11 +67,22 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
 
 /// The candidates SelectLocalGoal ranks, best first, at most `max_count`: the previous goal (if it
 /// is kept), then the farthest qualifying point of the route and of each offset line by score. When
-/// the planner finds no path to the first, the next is a different way round an obstacle.
+/// the planner finds no path to the first, the next is a different way round an obstacle. With
+/// `vehicle_progress_m` (the caller's RouteProgress tracker), "ahead" starts there rather than at
+/// the route point closest to the vehicle.
 std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox& vehicle,
                                         const std::vector<Eigen::Vector2d>& route_O,
                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
                                         const LocalGoalConfig& config, const std::optional<LocalGoal>& previous_L,
-                                        std::size_t max_count);
+                                        std::size_t max_count,
+                                        std::optional<double> vehicle_progress_m = std::nullopt);
+
+/// Arc length along the polyline `route` of its point closest to `p`, searched only over the part
+/// between `from_m - back_m` and `from_m + ahead_m` of arc length, so that a tracker that moves the
+/// window along with the vehicle is never fooled by a route that comes back near itself. With the
+/// default (infinite) window, the closest point of the whole route.
+double RouteProgress(const std::vector<Eigen::Vector2d>& route, const Eigen::Vector2d& p, double from_m = 0.0,
+                     double back_m = std::numeric_limits<double>::infinity(),
+                     double ahead_m = std::numeric_limits<double>::infinity());
 
 }  // namespace ovpc::planner
