@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ovpc {
 
@@ -30,6 +31,18 @@ void ClassifyFaces(const TraversabilityConfig& config, FreeSpaceMesh* mesh) {
   mesh->face_normals.resize(num_faces);
   mesh->face_traversable.resize(num_faces);
   const double cos_alpha_max = std::cos(config.alpha_max_rad);
+  // With a noise floor: the local surface at each vertex, the area-weighted sum of the normals of
+  // the faces around it (faces touching the viewpoint left out).
+  std::vector<Vec3> vertex_area_normal;
+  if (config.noise_floor_m > 0.0 && config.noise_floor_on_slopes) {
+    vertex_area_normal.assign(mesh->vertices.size(), Vec3::Zero());
+    for (std::size_t f = 0; f < num_faces; ++f) {
+      if (mesh->TouchesViewpoint(f)) continue;
+      const Triangle& t = mesh->triangles[f];
+      const Vec3 cross = (mesh->vertices[t[1]] - mesh->vertices[t[0]]).cross(mesh->vertices[t[2]] - mesh->vertices[t[0]]);
+      for (int k = 0; k < 3; ++k) vertex_area_normal[t[k]] += cross;
+    }
+  }
   for (std::size_t f = 0; f < num_faces; ++f) {
     const Triangle& t = mesh->triangles[f];
     const Vec3& a = mesh->vertices[t[0]];
@@ -50,7 +63,19 @@ void ClassifyFaces(const TraversabilityConfig& config, FreeSpaceMesh* mesh) {
     const double cos_angle = normal.dot(config.up);
     // Below the noise floor only faces looking down more than 60 deg (ceilings, the underside of a
     // roof) keep the angle test: folds of noisy ground stand on edge or lean over a little.
-    const bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > -0.5);
+    bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > -0.5);
+    if (!flat_enough && cos_angle > 0.0 && !vertex_area_normal.empty()) {
+      // A sliver on a slope: its height spread includes the slope's rise, but its relief across the
+      // local surface around it is what the noise bends. If that surface passes the angle test and
+      // the face lies within the noise floor of it, the face's own tilt is noise.
+      const Vec3 local = vertex_area_normal[t[0]] + vertex_area_normal[t[1]] + vertex_area_normal[t[2]];
+      const double local_norm = local.norm();
+      if (local_norm > 0.0 && local.dot(config.up) > cos_alpha_max * local_norm) {
+        const Vec3 n = local / local_norm;
+        const double da = a.dot(n), db = b.dot(n), dc = c.dot(n);
+        flat_enough = std::max({da, db, dc}) - std::min({da, db, dc}) < config.noise_floor_m;
+      }
+    }
     const bool low_step = spread < config.delta_h_max_m;
     mesh->face_traversable[f] = (flat_enough && low_step && !mesh->TouchesViewpoint(f)) ? 1 : 0;
   }

@@ -31,6 +31,9 @@ void VehicleBox::Validate() const {
   RequirePositive(wheelbase_m, "wheelbase_m");
   RequirePositive(track_m, "track_m");
   RequirePositive(wheel_support_m, "wheel_support_m");
+  if (!(max_tilt_deg > 0.0 && max_tilt_deg < 90.0)) {
+    throw std::invalid_argument("VehicleBox: max_tilt_deg must be in (0, 90), got " + std::to_string(max_tilt_deg));
+  }
   if (!std::isfinite(centre_ahead_m)) throw std::invalid_argument("VehicleBox: centre_ahead_m must be finite");
   if (!(ground_clearance_m < height_m + margin_m)) {
     throw std::invalid_argument("VehicleBox: ground_clearance_m must be below the box top (height_m + margin_m)");
@@ -48,6 +51,42 @@ const char* PoseCheckName(PoseCheck check) {
   return "unknown";
 }
 
+std::optional<GroundPose> PlaceOnWheels(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose,
+                                        const GroundPose& projected) {
+  // Contacts: rear left, rear right, front left, front right.
+  Vec3 contact[4];
+  int k = 0;
+  for (double x : {0.0, vehicle.wheelbase_m}) {
+    for (double y : {0.5 * vehicle.track_m, -0.5 * vehicle.track_m}) {
+      const Vec3 guess = projected.T_L_B * Vec3(x, y, 0.0);
+      const std::optional<GroundPose> under = map.Project(Pose2{guess.x(), guess.y(), pose.yaw_rad});
+      if (!under) return std::nullopt;
+      contact[k++] = under->T_L_B.translation();
+    }
+  }
+  // The least-squares plane through the four corners of a rectangle: it passes through their centroid
+  // and spans the mean of the two axle directions and the mean of the two side directions.
+  const Vec3 along = 0.5 * ((contact[2] - contact[0]) + (contact[3] - contact[1]));
+  const Vec3 left = 0.5 * ((contact[0] - contact[1]) + (contact[2] - contact[3]));
+  Vec3 normal = along.cross(left);
+  if (!(normal.z() > 0.0) || !(normal.norm() > 0.0)) return std::nullopt;
+  normal.normalize();
+  const Vec3 centroid = 0.25 * (contact[0] + contact[1] + contact[2] + contact[3]);
+  const double z =
+      centroid.z() - (normal.x() * (pose.x_m - centroid.x()) + normal.y() * (pose.y_m - centroid.y())) / normal.z();
+  const Vec3 heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
+  const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
+  GroundPose placed;
+  placed.traversable = projected.traversable;
+  Eigen::Matrix3d R_L_B;
+  R_L_B.col(0) = x_axis;
+  R_L_B.col(1) = normal.cross(x_axis);
+  R_L_B.col(2) = normal;
+  placed.T_L_B.linear() = R_L_B;
+  placed.T_L_B.translation() = Vec3(pose.x_m, pose.y_m, z);
+  return placed;
+}
+
 PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose) {
   if (!std::isfinite(pose.x_m) || !std::isfinite(pose.y_m) || !std::isfinite(pose.yaw_rad) ||
       !map.Bounds().Contains(pose.x_m, pose.y_m)) {
@@ -56,6 +95,12 @@ PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pos
   const std::optional<GroundPose> ground = map.Project(pose);
   if (!ground) return PoseCheck::kOutsideMap;
   if (!ground->traversable) return PoseCheck::kNotTraversable;
+  if (vehicle.placement == VehicleBox::Placement::kWheelContacts) {
+    const std::optional<GroundPose> placed = PlaceOnWheels(map, vehicle, pose, *ground);
+    if (!placed) return PoseCheck::kGroundUnderFootprint;  // a wheel over unknown ground
+    if (placed->T_L_B.linear()(2, 2) < std::cos(vehicle.max_tilt_deg * kPi / 180.0)) return PoseCheck::kNotTraversable;
+    return map.CheckBox(*placed, vehicle);
+  }
   return map.CheckBox(*ground, vehicle);
 }
 

@@ -90,30 +90,50 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
 
 // The space the vehicle occupies is free, and the ground it stands on is ground, but the sensor sees
 // neither. Measured points inside the vehicle's box (the body grown by the planner's margin, up to
-// its top) are dropped: returns off the vehicle itself on a real robot, outliers in simulation. Low
-// points (below `ground_band_m` in B) are dropped over the footprint grown by `margin_m` plus a band,
-// and a 0.25 m grid on the footprint plane (z = 0 in B) stands for the ground: mixing measured ground
-// with the grid would put noisy points a few centimetres from exact ones and make steep slivers of
-// faces. Anything taller just outside the body (a post the vehicle passes close by) stays in the map.
+// its top) are dropped: returns off the vehicle itself on a real robot, outliers in simulation. A
+// 0.25 m grid on the footprint plane (z = 0 in B), over the footprint grown by `margin_m`, stands for
+// the ground. Low points (below `ground_band_m` in B), measured ground: with kReplace they are dropped
+// over the grown footprint plus a band and the grid is laid everywhere (mixing measured ground with
+// the grid would put noisy points a few centimetres from exact ones and make steep slivers of faces);
+// with kFill they stay, and a grid point is laid only where no low point lies within the grid's
+// spacing, so that a measured ramp ahead of the bumper is not cut off by the flat grid. Anything
+// taller just outside the body (a post the vehicle passes close by) stays in the map.
 void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, double body_margin_m,
-                       double ground_band_m, double top_m, Points* points_L) {
+                       double ground_band_m, double top_m, LoopConfig::PriorMode mode, Points* points_L) {
   const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
   const double y0 = -v.width_m / 2, y1 = v.width_m / 2;
+  const bool fill = mode == LoopConfig::PriorMode::kFill;
   // A clearance band keeps measured ground off the grid's edge.
   constexpr double kBand = 0.12;
+  constexpr double kStep = 0.25;
   const double g = margin_m + kBand;
   const Eigen::Isometry3d T_B_L = T_L_B.inverse();
+  std::vector<Eigen::Vector2d> low_B;  // kFill: measured ground near the grid, in B's xy
   points_L->erase(std::remove_if(points_L->begin(), points_L->end(),
                                  [&](const Vec3& p_L) {
                                    const Vec3 p = T_B_L * p_L;
                                    if (p.z() >= top_m) return false;
-                                   const double m = p.z() < ground_band_m ? g : body_margin_m;
+                                   const bool low = p.z() < ground_band_m;
+                                   if (low && fill) {
+                                     if (p.x() >= x0 - margin_m - kStep && p.x() <= x1 + margin_m + kStep &&
+                                         p.y() >= y0 - margin_m - kStep && p.y() <= y1 + margin_m + kStep) {
+                                       low_B.emplace_back(p.x(), p.y());
+                                     }
+                                     return false;
+                                   }
+                                   const double m = low ? g : body_margin_m;
                                    return p.x() >= x0 - m && p.x() <= x1 + m && p.y() >= y0 - m && p.y() <= y1 + m;
                                  }),
                   points_L->end());
-  constexpr double kStep = 0.25;
   for (double x = x0 - margin_m; x <= x1 + margin_m + 1e-9; x += kStep) {
-    for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) points_L->push_back(T_L_B * Vec3(x, y, 0.0));
+    for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) {
+      const Eigen::Vector2d q(x, y);
+      if (fill && std::any_of(low_B.begin(), low_B.end(),
+                              [&q](const Eigen::Vector2d& p) { return (p - q).squaredNorm() < kStep * kStep; })) {
+        continue;
+      }
+      points_L->push_back(T_L_B * Vec3(x, y, 0.0));
+    }
   }
 }
 
@@ -242,7 +262,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         const planner::VehicleBox& box = planner_config.vehicle;
         AddFootprintPrior(cloud.T_O_L.inverse() * sim.T_O_B(), vehicle, scenario.loop.footprint_prior_margin_m,
                           box.margin_m + 0.02, box.ground_clearance_m, box.height_m + box.margin_m + 0.05,
-                          &cloud.points_L);
+                          scenario.loop.footprint_prior_mode, &cloud.points_L);
       }
       t_buffer.Add(MsSince(t));
       t = Clock::now();

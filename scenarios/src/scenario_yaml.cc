@@ -226,6 +226,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.GetDegrees("alpha_max_deg", &s->mapper.traversability.alpha_max_rad);
     m.Get("dh_max_m", &s->mapper.traversability.delta_h_max_m);
     m.Get("noise_floor_m", &s->mapper.traversability.noise_floor_m);
+    m.Get("noise_floor_on_slopes", &s->mapper.traversability.noise_floor_on_slopes);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("buffer")) {
@@ -257,6 +258,17 @@ void ReadParams(MapReader r, Scenario* s) {
       }
     }
     m.Get("wheel_support_m", &s->planner.vehicle.wheel_support_m);
+    if (const YAML::Node placement = m.Child("placement")) {
+      const std::string value = placement.IsScalar() ? placement.Scalar() : "";
+      if (value == "nearest_point") {
+        s->planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
+      } else if (value == "wheel_contacts") {
+        s->planner.vehicle.placement = planner::VehicleBox::Placement::kWheelContacts;
+      } else {
+        m.Fail(placement, "'" + m.Key("placement") + "' must be nearest_point or wheel_contacts, got '" + value + "'");
+      }
+    }
+    m.Get("max_tilt_deg", &s->planner.vehicle.max_tilt_deg);
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
     m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
@@ -283,6 +295,16 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("mesh_snapshot_period_s", &s->loop.mesh_snapshot_period_s);
     m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
     m.Get("goal_candidates", &s->loop.goal_candidates);
+    if (const YAML::Node mode = m.Child("footprint_prior_mode")) {
+      const std::string value = mode.IsScalar() ? mode.Scalar() : "";
+      if (value == "replace") {
+        s->loop.footprint_prior_mode = LoopConfig::PriorMode::kReplace;
+      } else if (value == "fill") {
+        s->loop.footprint_prior_mode = LoopConfig::PriorMode::kFill;
+      } else {
+        m.Fail(mode, "'" + m.Key("footprint_prior_mode") + "' must be replace or fill, got '" + value + "'");
+      }
+    }
     m.Finish();
   }
   r.Finish();
@@ -401,6 +423,9 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   s.planner.range_m = 1.0;
   // The wheels' footprint rule (docs/CLOSED_LOOP.md), with the Gator's axles.
   s.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
+  // The box stands on the plane through its wheels' contacts, not on one point's tangent plane, so
+  // that it does not cut into the ground where the slope changes (docs/CLOSED_LOOP.md).
+  s.planner.vehicle.placement = planner::VehicleBox::Placement::kWheelContacts;
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);

@@ -1,6 +1,7 @@
 #include "ovpc/core/traversability.h"
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -77,6 +78,81 @@ TEST(TraversabilityTest, NoiseFloorJudgesLowSliversByHeightAlone) {
   EXPECT_EQ(slope.face_traversable[0], 0);
   noisy.noise_floor_m = 0.3;  // not below delta_h_max
   EXPECT_THROW(noisy.Validate(), std::invalid_argument);
+}
+
+// A 0.2 m grid on a plane rising along +x at `slope_deg`, each vertex moved along z by up to
+// +-`noise_m` (a fixed pseudo-random pattern), triangulated with normals facing up.
+FreeSpaceMesh NoisySlope(double slope_deg, double noise_m) {
+  FreeSpaceMesh mesh;
+  constexpr int kN = 21;
+  std::uint32_t state = 12345;
+  const auto next = [&state]() {
+    state = state * 1664525u + 1013904223u;
+    return (state >> 8) / static_cast<double>(1u << 24) * 2.0 - 1.0;
+  };
+  for (int i = 0; i < kN; ++i) {
+    for (int j = 0; j < kN; ++j) {
+      const double x = 0.2 * i, y = 0.2 * j;
+      mesh.vertices.emplace_back(x, y, x * std::tan(DegToRad(slope_deg)) + noise_m * next());
+      mesh.source_index.push_back(static_cast<int>(mesh.source_index.size()));
+    }
+  }
+  for (int i = 0; i + 1 < kN; ++i) {
+    for (int j = 0; j + 1 < kN; ++j) {
+      const int a = i * kN + j, b = (i + 1) * kN + j, c = (i + 1) * kN + j + 1, d = i * kN + j + 1;
+      mesh.triangles.push_back({a, b, c});
+      mesh.triangles.push_back({a, c, d});
+    }
+  }
+  return mesh;
+}
+
+int CountTraversable(const FreeSpaceMesh& mesh) {
+  int n = 0;
+  for (auto t : mesh.face_traversable) n += t;
+  return n;
+}
+
+TEST(TraversabilityTest, NoiseFloorOnASlopeJudgesSliversAgainstTheLocalSurface) {
+  // On a 25 deg slope, 4 cm of noise tilts many 0.2 m faces past 30 deg; the paper's rule rejects
+  // them, the noise floor (relief across the local surface) keeps them. A 35 deg slope with the same
+  // noise stays non-traversable: its local surface fails the angle test.
+  TraversabilityConfig paper;
+  TraversabilityConfig noisy;
+  noisy.noise_floor_m = 0.05;
+  noisy.noise_floor_on_slopes = true;
+  TraversabilityConfig flat_only;
+  flat_only.noise_floor_m = 0.05;
+  FreeSpaceMesh gentle = NoisySlope(25.0, 0.02);
+  const int faces = static_cast<int>(gentle.triangles.size());
+  ClassifyFaces(paper, &gentle);
+  const int gentle_paper = CountTraversable(gentle);
+  EXPECT_LT(gentle_paper, faces * 95 / 100) << "the noise must matter for the paper's rule";
+  ClassifyFaces(flat_only, &gentle);
+  EXPECT_EQ(CountTraversable(gentle), gentle_paper) << "5 cm is less than any face's rise on the slope";
+  ClassifyFaces(noisy, &gentle);
+  EXPECT_GT(CountTraversable(gentle), faces * 99 / 100);
+
+  FreeSpaceMesh steep = NoisySlope(35.0, 0.02);
+  ClassifyFaces(noisy, &steep);
+  EXPECT_LT(CountTraversable(steep), faces * 15 / 100);
+  FreeSpaceMesh steep_clean = NoisySlope(35.0, 0.0);
+  ClassifyFaces(noisy, &steep_clean);
+  EXPECT_EQ(CountTraversable(steep_clean), 0);
+
+  // A 15 cm step across a flat grid (37 deg over one 0.2 m cell): the faces over it rise about 10 cm
+  // across the local surface, twice the noise floor, and stay non-traversable.
+  FreeSpaceMesh step = NoisySlope(0.0, 0.0);
+  for (Vec3& v : step.vertices) {
+    if (v.x() > 2.05) v.z() += 0.15;
+  }
+  ClassifyFaces(noisy, &step);
+  for (std::size_t f = 0; f < step.triangles.size(); ++f) {
+    const auto& t = step.triangles[f];
+    const bool spans_step = (step.vertices[t[0]].x() < 2.05) != (step.vertices[t[1]].x() < 2.05) ||
+                            (step.vertices[t[0]].x() < 2.05) != (step.vertices[t[2]].x() < 2.05);
+    EXPECT_EQ(step.face_traversable[f], spans_step ? 0 : 1) << f;
+  }
 }
 
 TEST(TraversabilityTest, DegenerateAndViewpointFacesAreNotTraversable) {

@@ -136,6 +136,80 @@ TEST(VertexCloudMapTest, ProjectsOntoTheSlopeAlignedToItsNormalKeepingTheHeading
   EXPECT_NEAR(std::atan2(R(1, 0), R(0, 0)), yaw, 1e-9);
 }
 
+// A 20 deg ramp from x = 0 up to a 2 m plateau, scanned from 3.6 m before its foot (slope_20's
+// geometry).
+PlanningScene LongRamp(double slope_deg, double viewpoint_x) {
+  testing::SceneSpec spec;
+  spec.slope_deg = slope_deg;
+  spec.ramp_start_x = 0.0;
+  spec.ramp_end_x = 2.0 / std::tan(DegToRad(slope_deg));
+  spec.ground = testing::Rect{-11.0, 14.0, -6.0, 6.0};
+  spec.viewpoint_x = viewpoint_x;
+  spec.gamma = -0.03;
+  return BuildScene(spec);
+}
+
+TEST(VertexCloudMapTest, WheelPlacementLetsTheBoxOverARampsFootTheRigidPlaneDoesNot) {
+  const PlanningScene scene = LongRamp(20.0, -3.6);
+  VehicleBox rigid;
+  rigid.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  rigid.ground_clearance_m = 0.35;  // even raised, the flat box's nose cuts into the ramp
+  VehicleBox wheels = rigid;
+  wheels.placement = VehicleBox::Placement::kWheelContacts;
+  wheels.ground_clearance_m = 0.2;
+  int rigid_collisions = 0;
+  for (double x = -3.0; x <= 3.0; x += 0.1) {
+    const Pose2 pose{x, 0.0, 0.0};
+    rigid_collisions += CheckPose(*scene.map, rigid, pose) == PoseCheck::kCollision;
+    EXPECT_EQ(CheckPose(*scene.map, wheels, pose), PoseCheck::kValid) << x;
+  }
+  EXPECT_GE(rigid_collisions, 8) << "rear axle 1.25 .. 0.25 m before the foot";
+
+  // Rear wheels on the flat, front wheels 1 m up the ramp: the box pitches by the wheels' rise.
+  const Pose2 straddle{-0.9, 0.0, 0.0};
+  const auto projected = scene.map->Project(straddle);
+  ASSERT_TRUE(projected.has_value());
+  EXPECT_NEAR(projected->T_L_B.linear()(2, 2), 1.0, 1e-3);  // the nearest point is flat ground
+  const auto placed = PlaceOnWheels(*scene.map, wheels, straddle, *projected);
+  ASSERT_TRUE(placed.has_value());
+  const double front_rise = std::tan(DegToRad(20.0)) * (wheels.wheelbase_m - 0.9);
+  const double pitch = std::atan2(front_rise, wheels.wheelbase_m);
+  EXPECT_NEAR(std::acos(placed->T_L_B.linear()(2, 2)), pitch, DegToRad(2.0));
+  EXPECT_NEAR(placed->T_L_B.translation().z(), 0.0, 0.03);
+  EXPECT_NEAR(std::atan2(placed->T_L_B.linear()(1, 0), placed->T_L_B.linear()(0, 0)), 0.0, 1e-9);
+}
+
+TEST(VertexCloudMapTest, WheelPlacementStillStopsAtASteepRampAndAStep) {
+  VehicleBox wheels;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  wheels.placement = VehicleBox::Placement::kWheelContacts;
+  // 35 deg (above alpha_max): some pose along the way up is invalid, so no motion climbs it.
+  const PlanningScene steep = LongRamp(35.0, -3.6);
+  bool blocked = false;
+  for (double x = -3.0; x <= 1.0; x += 0.1) blocked |= CheckPose(*steep.map, wheels, Pose2{x, 0.0, 0.0}) != PoseCheck::kValid;
+  EXPECT_TRUE(blocked);
+  // The plane through the wheels may not tilt past max_tilt_deg.
+  VehicleBox strict = wheels;
+  strict.max_tilt_deg = 10.0;
+  const PlanningScene ramp = LongRamp(20.0, -3.6);
+  EXPECT_EQ(CheckPose(*ramp.map, strict, Pose2{1.0, 0.0, 0.0}), PoseCheck::kNotTraversable);
+  EXPECT_EQ(CheckPose(*ramp.map, wheels, Pose2{1.0, 0.0, 0.0}), PoseCheck::kValid);
+
+  // A 0.5 m step (a wall across the way): driving at it, some pose collides or stands on its edge.
+  testing::SceneSpec spec;
+  spec.slope_deg = 89.0;
+  spec.ramp_start_x = 0.0;
+  spec.ramp_end_x = 0.5 / std::tan(DegToRad(89.0));
+  spec.spacing_m = 0.1;
+  spec.ground = testing::Rect{-8.0, 8.0, -5.0, 5.0};
+  spec.viewpoint_x = -3.0;
+  const PlanningScene step = BuildScene(spec);
+  int invalid = 0;
+  for (double x = -3.0; x <= 1.0; x += 0.1) invalid += CheckPose(*step.map, wheels, Pose2{x, 0.0, 0.0}) != PoseCheck::kValid;
+  EXPECT_GE(invalid, 10);
+  EXPECT_EQ(CheckPose(*step.map, wheels, Pose2{-2.1, 0.0, 0.0}), PoseCheck::kCollision);  // nose at the wall
+}
+
 TEST(VertexCloudMapTest, FarFromEveryPointIsOutsideKnownSpace) {
   const PlanningScene scene = BuildScene(testing::PostsScene());
   const VehicleBox vehicle;

@@ -14,8 +14,14 @@ struct TraversabilityConfig {
   /// across get normals that say nothing about the slope (range noise of 1.5 cm over 5 cm tilts a
   /// face by 17 deg), and where the ground crosses a voxel boundary two voxel centroids a few
   /// centimetres apart stand one above the other and make folds whose faces stand on edge or lean
-  /// over. 0 is the paper's rule.
+  /// over. On a slope the same holds across the local surface: a face that fails the angle test is
+  /// traversable when the surface around it (the area-weighted mean normal of the faces at its
+  /// vertices) passes the angle test and the face's vertices lie within this distance along that
+  /// surface's normal (`noise_floor_on_slopes`). 0 is the paper's rule.
   double noise_floor_m = 0.0;
+  /// Also apply the noise floor across the local surface on slopes (see above). Off: the paper's
+  /// rule above the noise floor.
+  bool noise_floor_on_slopes = false;
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -23,7 +29,8 @@ struct TraversabilityConfig {
 /// Computes unit face normals (into free space) and the traversable flag of every face:
 /// angle(normal, up) < alpha_max and height spread < delta_h_max, and the face does not touch the
 /// viewpoint. Ceilings (normals pointing down) fail the angle test. Faces lower than
-/// `noise_floor_m` that do not look down skip the angle test. Degenerate (zero-area) faces get
+/// `noise_floor_m` that do not look down skip the angle test, and so do faces thinner than it across a
+/// local surface that passes the angle test (see TraversabilityConfig::noise_floor_m). Degenerate (zero-area) faces get
 /// a zero normal and are not traversable.
 void ClassifyFaces(const TraversabilityConfig& config, FreeSpaceMesh* mesh);
 

@@ -32,6 +32,17 @@ struct VehicleBox {
   double wheelbase_m = 1.9;          ///< front axle ahead of the pose origin (kWheels)
   double track_m = 1.2;              ///< wheel centre to wheel centre across (kWheels)
   double wheel_support_m = 0.5;      ///< farthest a wheel may be from its nearest visible point (kWheels)
+  /// How the box is placed on the ground.
+  enum class Placement {
+    kNearestPoint,   ///< the paper's rule: on the tangent plane of the visible point nearest the pose
+    kWheelContacts,  ///< on the plane through the ground under the four wheels (each wheel projected
+                     ///< like the pose), as the suspended vehicle sits where the slope changes: at a
+                     ///< ramp's foot the front axle is already up the ramp
+  };
+  Placement placement = Placement::kNearestPoint;
+  /// kWheelContacts: the plane through the wheels may tilt at most this much from level (the face
+  /// test's alpha_max); a steeper placement is not traversable.
+  double max_tilt_deg = 30.0;
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -87,7 +98,15 @@ class PlanningMap {
 
 const char* PoseCheckName(PoseCheck check);
 
-/// The planner's state validity rule: project, require traversable ground, then a free box.
+/// The ground pose of the vehicle on its four wheels (Placement::kWheelContacts): each wheel's contact
+/// point, placed from `projected` (the pose projected by the map), is projected onto the ground like
+/// a pose, and the box stands on the least-squares plane through the four contacts with the heading
+/// kept and its origin below the planar pose. Nothing if a wheel is outside known space.
+std::optional<GroundPose> PlaceOnWheels(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose,
+                                        const GroundPose& projected);
+
+/// The planner's state validity rule: project, require traversable ground, place the vehicle
+/// (VehicleBox::placement), then a free box.
 PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose);
 
 }  // namespace ovpc::planner

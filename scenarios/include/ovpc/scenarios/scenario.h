@@ -52,6 +52,13 @@ struct LoopConfig {
   double footprint_prior_margin_m = 0.3;
   /// Local goal candidates tried per re-plan, best first, until one gives a path.
   int goal_candidates = 3;
+  /// What the footprint prior does with measured ground (points below the planner's ground
+  /// clearance) over the grown footprint. kReplace drops it and lays the grid everywhere: right on
+  /// flat ground, but at a ramp's foot or crest the flat grid cuts off the measured slope and leaves a
+  /// step. kFill keeps it and lays grid points only where no measured point lies within the grid's
+  /// spacing, so the grid fills the sensor's blind zone and never sits next to a measured point.
+  enum class PriorMode { kReplace, kFill };
+  PriorMode footprint_prior_mode = PriorMode::kReplace;
 };
 
 struct Scenario {
