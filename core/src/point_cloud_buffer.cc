@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "internal_util.h"
@@ -45,6 +46,9 @@ class SubsampleThreshold {
 // Voxel hits accumulated in one pass: per voxel its key, the sum of its points and their count, in
 // the order of each voxel's first point. An open-addressing table maps keys to voxels; each slot
 // holds a fingerprint of its key, so that probing past other voxels' slots rarely touches them.
+// `Key` is the integer type of the voxel indices: std::int32_t keeps the voxels small (and more of
+// them in cache) when every index fits in it (see KeysFitInt32), std::int64_t works for any input.
+template <typename Key>
 class VoxelAccumulator {
  public:
   /// Points that AddBatch takes at once.
@@ -56,7 +60,7 @@ class VoxelAccumulator {
     // Sized for the voxels of the previous use (the table grows when needed), at most twice the
     // points: a smaller table stays in cache.
     std::size_t capacity = 64;
-    while (capacity < std::min(2 * max_points, 4 * voxels_.size())) capacity *= 2;
+    while (capacity < std::min(2 * max_points, 3 * voxels_.size())) capacity *= 2;
     mask_ = capacity - 1;
     slots_.assign(capacity, Slot{-1, 0});
     voxels_.clear();
@@ -65,10 +69,10 @@ class VoxelAccumulator {
   /// Adds up to kBatch points, in order: their slots are prefetched first, so that the cache
   /// misses of a batch overlap.
   void AddBatch(const Vec3* points, std::size_t n) {
-    std::int64_t keys[kBatch][3];
+    Key keys[kBatch][3];
     std::uint64_t hashes[kBatch];
     for (std::size_t i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a) keys[i][a] = FloorToInt(points[i][a] * inv_);
+      for (int a = 0; a < 3; ++a) keys[i][a] = static_cast<Key>(FloorToInt(points[i][a] * inv_));
       hashes[i] = Hash(keys[i]);
       __builtin_prefetch(&slots_[hashes[i] & mask_]);
     }
@@ -114,9 +118,9 @@ class VoxelAccumulator {
     std::uint32_t tag;   // fingerprint of the voxel's key
   };
   struct Voxel {
-    std::int64_t key[3];
-    Vec3 sum;
+    Key key[3];
     std::uint32_t count;
+    Vec3 sum;
   };
   // std::floor and a conversion, without the library call that std::floor is on baseline x86-64.
   static std::int64_t FloorToInt(double x) {
@@ -124,20 +128,20 @@ class VoxelAccumulator {
     return static_cast<double>(t) > x && t != std::numeric_limits<std::int64_t>::min() ? t - 1 : t;
   }
 
-  static std::uint64_t Hash(const std::int64_t key[3]) {
+  static std::uint64_t Hash(const Key key[3]) {
     return Mix(static_cast<std::uint64_t>(key[0]) * 0x9e3779b97f4a7c15ULL ^
                static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL ^
                static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL);
   }
 
-  void Add(const std::int64_t key[3], std::uint64_t hash, const Vec3& p) {
+  void Add(const Key key[3], std::uint64_t hash, const Vec3& p) {
     const auto tag = static_cast<std::uint32_t>(hash >> 32);
     std::size_t slot = hash & mask_;
     while (true) {
       Slot& s = slots_[slot];
       if (s.voxel < 0) {
         s = Slot{static_cast<std::int32_t>(voxels_.size()), tag};
-        voxels_.push_back({{key[0], key[1], key[2]}, p, 1u});
+        voxels_.push_back({{key[0], key[1], key[2]}, 1u, p});
         if (2 * voxels_.size() > slots_.size()) Grow();
         return;
       }
@@ -171,10 +175,25 @@ class VoxelAccumulator {
   std::vector<Voxel> voxels_;
 };
 
-// One accumulator per thread, reused so that its memory is allocated once.
-VoxelAccumulator& ScratchVoxels() {
-  thread_local VoxelAccumulator voxels;
+// One accumulator of each kind per thread, reused so that its memory is allocated once.
+template <typename Key>
+VoxelAccumulator<Key>& ScratchVoxels() {
+  thread_local VoxelAccumulator<Key> voxels;
   return voxels;
+}
+
+// Whether every voxel index of coordinates up to `max_abs` fits in an int32 (with a margin).
+bool KeysFitInt32(double max_abs, double voxel_size_m) { return max_abs / voxel_size_m < 1e9; }
+
+template <typename Key>
+Points VoxelFilterWith(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats) {
+  constexpr std::size_t kBatch = VoxelAccumulator<Key>::kBatch;
+  VoxelAccumulator<Key>& voxels = ScratchVoxels<Key>();
+  voxels.Reset(voxel_size_m, points.size());
+  for (std::size_t i = 0; i < points.size(); i += kBatch) voxels.AddBatch(&points[i], std::min(kBatch, points.size() - i));
+  Points out;
+  voxels.Extract(min_hits, std::numeric_limits<std::size_t>::max(), 0, &out, stats);
+  return out;
 }
 
 }  // namespace
@@ -190,14 +209,10 @@ void PointCloudBuffer::Config::Validate() const {
 
 Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats) {
   if (!(voxel_size_m > 0.0)) return points;
-  VoxelAccumulator& voxels = ScratchVoxels();
-  voxels.Reset(voxel_size_m, points.size());
-  for (std::size_t i = 0; i < points.size(); i += VoxelAccumulator::kBatch) {
-    voxels.AddBatch(&points[i], std::min(VoxelAccumulator::kBatch, points.size() - i));
-  }
-  Points out;
-  voxels.Extract(min_hits, std::numeric_limits<std::size_t>::max(), 0, &out, stats);
-  return out;
+  double max_abs = 0.0;
+  for (const Vec3& p : points) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
+  return KeysFitInt32(max_abs, voxel_size_m) ? VoxelFilterWith<std::int32_t>(points, voxel_size_m, min_hits, stats)
+                                             : VoxelFilterWith<std::int64_t>(points, voxel_size_m, min_hits, stats);
 }
 
 Points Subsample(const Points& points, std::size_t max_points, std::uint64_t seed, BufferStats* stats) {
@@ -247,43 +262,56 @@ PointCloudBuffer::LocalCloud PointCloudBuffer::Build() const {
     stats.input += s.scan.points_S.size() + s.non_finite;
     stats.non_finite += s.non_finite;
   }
-  // Transform, crop and voxel hits in one pass over the scans, oldest first: the same points in the
-  // same order as merging the scans and filtering the merged cloud.
-  const bool filter = config_.voxel_size_m > 0.0;
-  VoxelAccumulator& voxels = ScratchVoxels();
-  Points merged_L;
-  if (filter) {
-    voxels.Reset(config_.voxel_size_m, total);
-  } else {
+  if (!(config_.voxel_size_m > 0.0)) {
+    Points merged_L;
     merged_L.reserve(total);
-  }
-  // Points go into the voxels in batches (see AddBatch).
-  Vec3 batch_L[VoxelAccumulator::kBatch];
-  std::size_t batched = 0;
-  for (const Stored& s : scans_) {
-    const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
-    for (const Vec3& p_S : s.scan.points_S) {
-      const Vec3 p_L = T_L_S * p_S;
-      if (p_L.squaredNorm() > r2) {
-        ++stats.out_of_range;
-        continue;
-      }
-      if (!filter) {
+    for (const Stored& s : scans_) {
+      const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
+      for (const Vec3& p_S : s.scan.points_S) {
+        const Vec3 p_L = T_L_S * p_S;
+        if (p_L.squaredNorm() > r2) {
+          ++stats.out_of_range;
+          continue;
+        }
         merged_L.push_back(p_L);
-        continue;
-      }
-      batch_L[batched++] = p_L;
-      if (batched == VoxelAccumulator::kBatch) {
-        voxels.AddBatch(batch_L, batched);
-        batched = 0;
       }
     }
-  }
-  if (batched > 0) voxels.AddBatch(batch_L, batched);
-  if (filter) {
-    voxels.Extract(config_.min_hits, config_.max_points, config_.seed, &result.points_L, &stats);
-  } else {
     result.points_L = Subsample(merged_L, config_.max_points, config_.seed, &stats);
+    stats.output = result.points_L.size();
+    return result;
+  }
+
+  // Transform, crop and voxel hits in one pass over the scans, oldest first: the same points in the
+  // same order as merging the scans and filtering the merged cloud. Points go into the voxels in
+  // batches (see AddBatch).
+  const auto merge = [&](auto& voxels) {
+    constexpr std::size_t kBatch = std::remove_reference_t<decltype(voxels)>::kBatch;
+    voxels.Reset(config_.voxel_size_m, total);
+    Vec3 batch_L[kBatch];
+    std::size_t batched = 0;
+    for (const Stored& s : scans_) {
+      const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
+      for (const Vec3& p_S : s.scan.points_S) {
+        const Vec3 p_L = T_L_S * p_S;
+        if (p_L.squaredNorm() > r2) {
+          ++stats.out_of_range;
+          continue;
+        }
+        batch_L[batched++] = p_L;
+        if (batched == kBatch) {
+          voxels.AddBatch(batch_L, batched);
+          batched = 0;
+        }
+      }
+    }
+    if (batched > 0) voxels.AddBatch(batch_L, batched);
+    voxels.Extract(config_.min_hits, config_.max_points, config_.seed, &result.points_L, &stats);
+  };
+  // The crop bounds every coordinate (with a margin for rounding).
+  if (KeysFitInt32(1.001 * config_.crop_radius_m + 1.0, config_.voxel_size_m)) {
+    merge(ScratchVoxels<std::int32_t>());
+  } else {
+    merge(ScratchVoxels<std::int64_t>());
   }
   stats.output = result.points_L.size();
   return result;

@@ -251,6 +251,9 @@ TEST(PointCloudBufferTest, BuildMatchesTheReferenceWithOtherSettings) {
   config.min_hits = 1;
   config.crop_radius_m = 200.0;
   CompareWithReference(config, 4, 12);
+  config.crop_radius_m = 1e9;  // voxel indices beyond 32 bits
+  config.min_hits = 2;
+  CompareWithReference(config, 5, 12);
 }
 
 TEST(PointCloudBufferTest, VoxelFilterAndSubsampleMatchTheReference) {
