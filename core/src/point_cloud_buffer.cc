@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "internal_util.h"
@@ -15,6 +17,184 @@ using internal::Mix;
 
 bool IsFinite(const Vec3& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
 
+// Which of n indices Subsample keeps: the `max_points` with the smallest seeded hash. The hash is a
+// bijection of the index, so no two indices tie and the kept set is exactly those with a hash at
+// or below the max_points-th smallest.
+class SubsampleThreshold {
+ public:
+  SubsampleThreshold(std::size_t n, std::size_t max_points, std::uint64_t seed) : salt_(Mix(seed)) {
+    if (max_points == 0) {
+      none_ = true;
+      return;
+    }
+    thread_local std::vector<std::uint64_t> ranks;
+    ranks.resize(n);
+    for (std::size_t i = 0; i < n; ++i) ranks[i] = Rank(i);
+    const auto nth = ranks.begin() + static_cast<std::ptrdiff_t>(max_points - 1);
+    std::nth_element(ranks.begin(), nth, ranks.end());
+    threshold_ = *nth;
+  }
+  bool operator()(std::size_t i) const { return !none_ && Rank(i) <= threshold_; }
+
+ private:
+  std::uint64_t Rank(std::size_t i) const { return Mix(salt_ ^ static_cast<std::uint64_t>(i)); }
+  std::uint64_t salt_;
+  std::uint64_t threshold_ = 0;
+  bool none_ = false;
+};
+
+// Voxel hits accumulated in one pass: per voxel its key, the sum of its points and their count, in
+// the order of each voxel's first point. An open-addressing table maps keys to voxels; each slot
+// holds a fingerprint of its key, so that probing past other voxels' slots rarely touches them.
+// `Key` is the integer type of the voxel indices: std::int32_t keeps the voxels small (and more of
+// them in cache) when every index fits in it (see KeysFitInt32), std::int64_t works for any input.
+template <typename Key>
+class VoxelAccumulator {
+ public:
+  /// Points that AddBatch takes at once.
+  static constexpr std::size_t kBatch = 16;
+
+  /// Empties the accumulator for voxels of `voxel_size_m`; `max_points` bounds the points to come.
+  void Reset(double voxel_size_m, std::size_t max_points) {
+    inv_ = 1.0 / voxel_size_m;
+    // Sized for the voxels of the previous use (the table grows when needed), at most twice the
+    // points: a smaller table stays in cache.
+    std::size_t capacity = 64;
+    while (capacity < std::min(2 * max_points, 3 * voxels_.size())) capacity *= 2;
+    mask_ = capacity - 1;
+    slots_.assign(capacity, Slot{-1, 0});
+    voxels_.clear();
+  }
+
+  /// Adds up to kBatch points, in order: their slots are prefetched first, so that the cache
+  /// misses of a batch overlap.
+  void AddBatch(const Vec3* points, std::size_t n) {
+    Key keys[kBatch][3];
+    std::uint64_t hashes[kBatch];
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) keys[i][a] = static_cast<Key>(FloorToInt(points[i][a] * inv_));
+      hashes[i] = Hash(keys[i]);
+      __builtin_prefetch(&slots_[hashes[i] & mask_]);
+    }
+    for (std::size_t i = 0; i < n; ++i) Add(keys[i], hashes[i], points[i]);
+  }
+
+  /// Appends the centroids of the voxels with at least `min_hits` points to `out`, in voxel order,
+  /// subsampled like Subsample(centroids, max_points, seed) without forming the dropped centroids.
+  void Extract(int min_hits, std::size_t max_points, std::uint64_t seed, Points* out, BufferStats* stats) const {
+    const auto min_count = static_cast<std::uint32_t>(min_hits);
+    std::size_t kept = 0, sparse = 0;
+    for (const Voxel& v : voxels_) {
+      if (v.count >= min_count) {
+        ++kept;
+      } else {
+        sparse += v.count;
+      }
+    }
+    if (stats != nullptr) {
+      stats->voxel_sparse += sparse;
+      stats->voxels_kept += kept;
+    }
+    if (kept <= max_points) {
+      out->reserve(out->size() + kept);
+      for (const Voxel& v : voxels_) {
+        if (v.count >= min_count) out->push_back(v.sum / static_cast<double>(v.count));
+      }
+      return;
+    }
+    const SubsampleThreshold keep(kept, max_points, seed);
+    out->reserve(out->size() + max_points);
+    std::size_t i = 0;
+    for (const Voxel& v : voxels_) {
+      if (v.count < min_count) continue;
+      if (keep(i++)) out->push_back(v.sum / static_cast<double>(v.count));
+    }
+    if (stats != nullptr) stats->subsampled_out += kept - max_points;
+  }
+
+ private:
+  struct Slot {
+    std::int32_t voxel;  // index into voxels_, -1 if empty
+    std::uint32_t tag;   // fingerprint of the voxel's key
+  };
+  struct Voxel {
+    Key key[3];
+    std::uint32_t count;
+    Vec3 sum;
+  };
+  // std::floor and a conversion, without the library call that std::floor is on baseline x86-64.
+  static std::int64_t FloorToInt(double x) {
+    const auto t = static_cast<std::int64_t>(x);
+    return static_cast<double>(t) > x && t != std::numeric_limits<std::int64_t>::min() ? t - 1 : t;
+  }
+
+  static std::uint64_t Hash(const Key key[3]) {
+    return Mix(static_cast<std::uint64_t>(key[0]) * 0x9e3779b97f4a7c15ULL ^
+               static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL ^
+               static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL);
+  }
+
+  void Add(const Key key[3], std::uint64_t hash, const Vec3& p) {
+    const auto tag = static_cast<std::uint32_t>(hash >> 32);
+    std::size_t slot = hash & mask_;
+    while (true) {
+      Slot& s = slots_[slot];
+      if (s.voxel < 0) {
+        s = Slot{static_cast<std::int32_t>(voxels_.size()), tag};
+        voxels_.push_back({{key[0], key[1], key[2]}, 1u, p});
+        if (2 * voxels_.size() > slots_.size()) Grow();
+        return;
+      }
+      if (s.tag == tag) {
+        Voxel& v = voxels_[static_cast<std::size_t>(s.voxel)];
+        if (v.key[0] == key[0] && v.key[1] == key[1] && v.key[2] == key[2]) {
+          v.sum += p;
+          ++v.count;
+          return;
+        }
+      }
+      slot = (slot + 1) & mask_;
+    }
+  }
+
+  // Doubles the table and re-inserts the voxels (their order is kept).
+  void Grow() {
+    mask_ = 2 * slots_.size() - 1;
+    slots_.assign(mask_ + 1, Slot{-1, 0});
+    for (std::size_t i = 0; i < voxels_.size(); ++i) {
+      const std::uint64_t hash = Hash(voxels_[i].key);
+      std::size_t slot = hash & mask_;
+      while (slots_[slot].voxel >= 0) slot = (slot + 1) & mask_;
+      slots_[slot] = Slot{static_cast<std::int32_t>(i), static_cast<std::uint32_t>(hash >> 32)};
+    }
+  }
+
+  double inv_ = 1.0;
+  std::size_t mask_ = 0;
+  std::vector<Slot> slots_;
+  std::vector<Voxel> voxels_;
+};
+
+// One accumulator of each kind per thread, reused so that its memory is allocated once.
+template <typename Key>
+VoxelAccumulator<Key>& ScratchVoxels() {
+  thread_local VoxelAccumulator<Key> voxels;
+  return voxels;
+}
+
+// Whether every voxel index of coordinates up to `max_abs` fits in an int32 (with a margin).
+bool KeysFitInt32(double max_abs, double voxel_size_m) { return max_abs / voxel_size_m < 1e9; }
+
+template <typename Key>
+Points VoxelFilterWith(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats) {
+  constexpr std::size_t kBatch = VoxelAccumulator<Key>::kBatch;
+  VoxelAccumulator<Key>& voxels = ScratchVoxels<Key>();
+  voxels.Reset(voxel_size_m, points.size());
+  for (std::size_t i = 0; i < points.size(); i += kBatch) voxels.AddBatch(&points[i], std::min(kBatch, points.size() - i));
+  Points out;
+  voxels.Extract(min_hits, std::numeric_limits<std::size_t>::max(), 0, &out, stats);
+  return out;
+}
 
 }  // namespace
 
@@ -29,75 +209,20 @@ void PointCloudBuffer::Config::Validate() const {
 
 Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, BufferStats* stats) {
   if (!(voxel_size_m > 0.0)) return points;
-  // One pass with an open-addressing hash table of voxels (sum, count), then the voxels in order of
-  // their first point: O(n), deterministic, and no sort of the whole cloud.
-  struct Voxel {
-    std::int64_t key[3];
-    Vec3 sum;
-    std::uint32_t count;
-    std::uint32_t first;  // index of the voxel's first point, for the output order
-  };
-  thread_local std::vector<Voxel> voxels;
-  thread_local std::vector<std::int32_t> table;
-  std::size_t capacity = 16;
-  while (capacity < 2 * points.size()) capacity *= 2;
-  table.assign(capacity, -1);
-  voxels.clear();
-  const double inv = 1.0 / voxel_size_m;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3& p = points[i];
-    const std::int64_t k[3] = {static_cast<std::int64_t>(std::floor(p.x() * inv)),
-                               static_cast<std::int64_t>(std::floor(p.y() * inv)),
-                               static_cast<std::int64_t>(std::floor(p.z() * inv))};
-    std::uint64_t h = Mix(static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL ^
-                          static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL ^
-                          static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL);
-    std::size_t slot = h & (capacity - 1);
-    while (true) {
-      const std::int32_t v = table[slot];
-      if (v < 0) {
-        table[slot] = static_cast<std::int32_t>(voxels.size());
-        voxels.push_back({{k[0], k[1], k[2]}, p, 1u, static_cast<std::uint32_t>(i)});
-        break;
-      }
-      Voxel& vox = voxels[v];
-      if (vox.key[0] == k[0] && vox.key[1] == k[1] && vox.key[2] == k[2]) {
-        vox.sum += p;
-        ++vox.count;
-        break;
-      }
-      slot = (slot + 1) & (capacity - 1);
-    }
-  }
-  Points out;
-  std::size_t sparse = 0;
-  for (const Voxel& v : voxels) {
-    if (v.count >= static_cast<std::uint32_t>(min_hits)) {
-      out.push_back(v.sum / static_cast<double>(v.count));
-    } else {
-      sparse += v.count;
-    }
-  }
-  if (stats != nullptr) {
-    stats->voxel_sparse += sparse;
-    stats->voxels_kept += out.size();
-  }
-  return out;
+  double max_abs = 0.0;
+  for (const Vec3& p : points) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
+  return KeysFitInt32(max_abs, voxel_size_m) ? VoxelFilterWith<std::int32_t>(points, voxel_size_m, min_hits, stats)
+                                             : VoxelFilterWith<std::int64_t>(points, voxel_size_m, min_hits, stats);
 }
 
 Points Subsample(const Points& points, std::size_t max_points, std::uint64_t seed, BufferStats* stats) {
   if (points.size() <= max_points) return points;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> ranked(points.size());
-  const std::uint64_t salt = Mix(seed);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    ranked[i] = {Mix(salt ^ static_cast<std::uint64_t>(i)), static_cast<std::uint32_t>(i)};
-  }
-  std::nth_element(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(max_points), ranked.end());
-  ranked.resize(max_points);
-  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  const SubsampleThreshold keep(points.size(), max_points, seed);
   Points out;
   out.reserve(max_points);
-  for (const auto& r : ranked) out.push_back(points[r.second]);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (keep(i)) out.push_back(points[i]);
+  }
   if (stats != nullptr) stats->subsampled_out += points.size() - max_points;
   return out;
 }
@@ -131,25 +256,63 @@ PointCloudBuffer::LocalCloud PointCloudBuffer::Build() const {
   const double r2 = config_.crop_radius_m * config_.crop_radius_m;
 
   BufferStats& stats = result.stats;
-  Points merged_L;
   std::size_t total = 0;
-  for (const Stored& s : scans_) total += s.scan.points_S.size();
-  merged_L.reserve(total);
   for (const Stored& s : scans_) {
+    total += s.scan.points_S.size();
     stats.input += s.scan.points_S.size() + s.non_finite;
     stats.non_finite += s.non_finite;
-    const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
-    for (const Vec3& p_S : s.scan.points_S) {
-      const Vec3 p_L = T_L_S * p_S;
-      if (p_L.squaredNorm() > r2) {
-        ++stats.out_of_range;
-        continue;
-      }
-      merged_L.push_back(p_L);
-    }
   }
-  Points filtered = VoxelFilter(merged_L, config_.voxel_size_m, config_.min_hits, &stats);
-  result.points_L = Subsample(filtered, config_.max_points, config_.seed, &stats);
+  if (!(config_.voxel_size_m > 0.0)) {
+    Points merged_L;
+    merged_L.reserve(total);
+    for (const Stored& s : scans_) {
+      const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
+      for (const Vec3& p_S : s.scan.points_S) {
+        const Vec3 p_L = T_L_S * p_S;
+        if (p_L.squaredNorm() > r2) {
+          ++stats.out_of_range;
+          continue;
+        }
+        merged_L.push_back(p_L);
+      }
+    }
+    result.points_L = Subsample(merged_L, config_.max_points, config_.seed, &stats);
+    stats.output = result.points_L.size();
+    return result;
+  }
+
+  // Transform, crop and voxel hits in one pass over the scans, oldest first: the same points in the
+  // same order as merging the scans and filtering the merged cloud. Points go into the voxels in
+  // batches (see AddBatch).
+  const auto merge = [&](auto& voxels) {
+    constexpr std::size_t kBatch = std::remove_reference_t<decltype(voxels)>::kBatch;
+    voxels.Reset(config_.voxel_size_m, total);
+    Vec3 batch_L[kBatch];
+    std::size_t batched = 0;
+    for (const Stored& s : scans_) {
+      const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
+      for (const Vec3& p_S : s.scan.points_S) {
+        const Vec3 p_L = T_L_S * p_S;
+        if (p_L.squaredNorm() > r2) {
+          ++stats.out_of_range;
+          continue;
+        }
+        batch_L[batched++] = p_L;
+        if (batched == kBatch) {
+          voxels.AddBatch(batch_L, batched);
+          batched = 0;
+        }
+      }
+    }
+    if (batched > 0) voxels.AddBatch(batch_L, batched);
+    voxels.Extract(config_.min_hits, config_.max_points, config_.seed, &result.points_L, &stats);
+  };
+  // The crop bounds every coordinate (with a margin for rounding).
+  if (KeysFitInt32(1.001 * config_.crop_radius_m + 1.0, config_.voxel_size_m)) {
+    merge(ScratchVoxels<std::int32_t>());
+  } else {
+    merge(ScratchVoxels<std::int64_t>());
+  }
   stats.output = result.points_L.size();
   return result;
 }
