@@ -113,7 +113,7 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
     return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
   };
   // The farthest point that qualifies on the route and on each offset line beside it, ranked by
-  // progress less the offset's penalty (ties: the smaller offset, tried first).
+  // progress less the offset's penalty and detour (ties: the smaller offset, tried first).
   struct Scored {
     LocalGoal goal;
     double score;
@@ -128,7 +128,11 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
       const bool is_end = r.is_end && offset == 0.0;
       const Pose2 pose{p.x(), p.y(), r.yaw_rad};
       if (qualifies(pose, is_end)) {
-        scored.push_back({LocalGoal{pose, r.progress_m, is_end}, r.progress_m - penalty});
+        // Near the route's end a point beside it is no nearer the end than the route point behind
+        // it: the offset also counts by how much it lengthens the straight way to the end.
+        const double remaining = route.back().progress_m - r.progress_m;
+        const double detour = std::hypot(remaining, offset) - remaining;
+        scored.push_back({LocalGoal{pose, r.progress_m, is_end}, r.progress_m - penalty - detour});
         break;
       }
     }

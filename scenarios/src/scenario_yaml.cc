@@ -272,6 +272,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
     m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
+    m.Get("goal_offset_penalty", &s->local_goal.lateral_offset_penalty);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);
     m.Get("max_projection_distance_m", &s->map.max_projection_distance_m);
@@ -423,9 +424,9 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   s.planner.range_m = 1.0;
   // The wheels' footprint rule (docs/CLOSED_LOOP.md), with the Gator's axles.
   s.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
-  // The box stands on the plane through its wheels' contacts, not on one point's tangent plane, so
-  // that it does not cut into the ground where the slope changes (docs/CLOSED_LOOP.md).
-  s.planner.vehicle.placement = planner::VehicleBox::Placement::kWheelContacts;
+  // The box on the nearest point's tangent plane (the paper's rule); the slope scenarios set
+  // placement: wheel_contacts, which broke low_roof_1p6 as a suite-wide default (docs/CLOSED_LOOP.md).
+  s.planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);

@@ -26,7 +26,9 @@ struct LocalGoalConfig {
   /// known. Empty: the route only (the paper's rule).
   std::vector<double> lateral_offsets_m;
   /// Among the offsets, the goal with the most route progress less this many metres per metre of
-  /// offset wins (ties: the smaller offset): a wide detour is taken when it gets much further.
+  /// offset, and less the length the offset adds to the straight way to the route's end
+  /// (hypot(remaining, offset) - remaining: about nothing far from the end, the whole offset at the
+  /// end), wins (ties: the smaller offset): a wide detour is taken when it gets much further.
   double lateral_offset_penalty = 0.5;
   /// Keep the previous goal, if it still qualifies, unless the new one lies more than this much
   /// further along the route: goals flickering between the two sides of a post make paths that
