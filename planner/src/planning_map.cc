@@ -51,6 +51,21 @@ const char* PoseCheckName(PoseCheck check) {
   return "unknown";
 }
 
+GroundPose PoseOnPlane(const Pose2& pose, const Vec3& point, const Vec3& normal, bool traversable) {
+  const double z = point.z() - (normal.x() * (pose.x_m - point.x()) + normal.y() * (pose.y_m - point.y())) / normal.z();
+  const Vec3 heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
+  const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
+  GroundPose ground;
+  ground.traversable = traversable;
+  Eigen::Matrix3d R_L_B;
+  R_L_B.col(0) = x_axis;
+  R_L_B.col(1) = normal.cross(x_axis);
+  R_L_B.col(2) = normal;
+  ground.T_L_B.linear() = R_L_B;
+  ground.T_L_B.translation() = Vec3(pose.x_m, pose.y_m, z);
+  return ground;
+}
+
 std::optional<GroundPose> PlaceOnWheels(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose,
                                         const GroundPose& projected) {
   // Contacts: rear left, rear right, front left, front right.
@@ -72,19 +87,7 @@ std::optional<GroundPose> PlaceOnWheels(const PlanningMap& map, const VehicleBox
   if (!(normal.z() > 0.0) || !(normal.norm() > 0.0)) return std::nullopt;
   normal.normalize();
   const Vec3 centroid = 0.25 * (contact[0] + contact[1] + contact[2] + contact[3]);
-  const double z =
-      centroid.z() - (normal.x() * (pose.x_m - centroid.x()) + normal.y() * (pose.y_m - centroid.y())) / normal.z();
-  const Vec3 heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
-  const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
-  GroundPose placed;
-  placed.traversable = projected.traversable;
-  Eigen::Matrix3d R_L_B;
-  R_L_B.col(0) = x_axis;
-  R_L_B.col(1) = normal.cross(x_axis);
-  R_L_B.col(2) = normal;
-  placed.T_L_B.linear() = R_L_B;
-  placed.T_L_B.translation() = Vec3(pose.x_m, pose.y_m, z);
-  return placed;
+  return PoseOnPlane(pose, centroid, normal, projected.traversable);
 }
 
 PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose) {

@@ -79,24 +79,12 @@ std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
 
   const Vec3& p = cloud_.points()[nearest->index];
   Vec3 normal = cloud_.normals()[nearest->index];
-  GroundPose ground;
-  ground.traversable = cloud_.traversable()[nearest->index] != 0;
+  bool traversable = cloud_.traversable()[nearest->index] != 0;
   if (!(normal.z() >= kMinNormalZ)) {
     normal = Vec3::UnitZ();
-    ground.traversable = false;
+    traversable = false;
   }
-  // Origin: the pose dropped vertically onto the tangent plane at the nearest point.
-  const double z = p.z() - (normal.x() * (pose.x_m - p.x()) + normal.y() * (pose.y_m - p.y())) / normal.z();
-  // x: the heading tilted in its vertical plane onto the tangent plane, so the yaw is kept exactly.
-  const Vec3 heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
-  const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
-  Eigen::Matrix3d R_L_B;
-  R_L_B.col(0) = x_axis;
-  R_L_B.col(1) = normal.cross(x_axis);
-  R_L_B.col(2) = normal;
-  ground.T_L_B.linear() = R_L_B;
-  ground.T_L_B.translation() = Vec3(pose.x_m, pose.y_m, z);
-  return ground;
+  return PoseOnPlane(pose, p, normal, traversable);
 }
 
 PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const {

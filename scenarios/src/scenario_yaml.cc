@@ -1,8 +1,10 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
 #include <fstream>
+#include <initializer_list>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
@@ -47,6 +49,22 @@ class MapReader {
     const YAML::Node value = Take(key);
     if (!value) Fail(node_, "'" + Key(key) + "' is required");
     *out = Convert<T>(value, key);
+  }
+  /// A key whose value is one of `choices` (name, value); anything else fails naming them.
+  template <class T>
+  void GetChoice(const char* key, std::initializer_list<std::pair<const char*, T>> choices, T* out) {
+    const YAML::Node value = Take(key);
+    if (!value) return;
+    const std::string text = value.IsScalar() ? value.Scalar() : "";
+    std::string names;
+    for (const auto& [name, choice] : choices) {
+      if (text == name) {
+        *out = choice;
+        return;
+      }
+      names += (names.empty() ? "" : " or ") + std::string(name);
+    }
+    Fail(value, "'" + Key(key) + "' must be " + names + ", got '" + text + "'");
   }
   void GetDegrees(const char* key, double* out_rad) {
     const YAML::Node value = Take(key);
@@ -247,27 +265,15 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("margin_m", &s->planner.vehicle.margin_m);
     m.Get("vehicle_height_m", &s->planner.vehicle.height_m);
     m.Get("ground_clearance_m", &s->planner.vehicle.ground_clearance_m);
-    if (const YAML::Node check = m.Child("footprint_check")) {
-      const std::string value = check.IsScalar() ? check.Scalar() : "";
-      if (value == "all_points") {
-        s->planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kAllPoints;
-      } else if (value == "wheels") {
-        s->planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
-      } else {
-        m.Fail(check, "'" + m.Key("footprint_check") + "' must be all_points or wheels, got '" + value + "'");
-      }
-    }
+    m.GetChoice("footprint_check",
+                {{"all_points", planner::VehicleBox::FootprintCheck::kAllPoints},
+                 {"wheels", planner::VehicleBox::FootprintCheck::kWheels}},
+                &s->planner.vehicle.footprint_check);
     m.Get("wheel_support_m", &s->planner.vehicle.wheel_support_m);
-    if (const YAML::Node placement = m.Child("placement")) {
-      const std::string value = placement.IsScalar() ? placement.Scalar() : "";
-      if (value == "nearest_point") {
-        s->planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
-      } else if (value == "wheel_contacts") {
-        s->planner.vehicle.placement = planner::VehicleBox::Placement::kWheelContacts;
-      } else {
-        m.Fail(placement, "'" + m.Key("placement") + "' must be nearest_point or wheel_contacts, got '" + value + "'");
-      }
-    }
+    m.GetChoice("placement",
+                {{"nearest_point", planner::VehicleBox::Placement::kNearestPoint},
+                 {"wheel_contacts", planner::VehicleBox::Placement::kWheelContacts}},
+                &s->planner.vehicle.placement);
     m.Get("max_tilt_deg", &s->planner.vehicle.max_tilt_deg);
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
@@ -296,16 +302,8 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("mesh_snapshot_period_s", &s->loop.mesh_snapshot_period_s);
     m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
     m.Get("goal_candidates", &s->loop.goal_candidates);
-    if (const YAML::Node mode = m.Child("footprint_prior_mode")) {
-      const std::string value = mode.IsScalar() ? mode.Scalar() : "";
-      if (value == "replace") {
-        s->loop.footprint_prior_mode = LoopConfig::PriorMode::kReplace;
-      } else if (value == "fill") {
-        s->loop.footprint_prior_mode = LoopConfig::PriorMode::kFill;
-      } else {
-        m.Fail(mode, "'" + m.Key("footprint_prior_mode") + "' must be replace or fill, got '" + value + "'");
-      }
-    }
+    m.GetChoice("footprint_prior_mode", {{"replace", LoopConfig::PriorMode::kReplace}, {"fill", LoopConfig::PriorMode::kFill}},
+                &s->loop.footprint_prior_mode);
     m.Finish();
   }
   r.Finish();

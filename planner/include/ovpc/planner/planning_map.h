@@ -98,6 +98,11 @@ class PlanningMap {
 
 const char* PoseCheckName(PoseCheck check);
 
+/// The planar pose placed on the plane through `point` with unit `normal` (normal.z() > 0): origin
+/// dropped vertically onto the plane, x the heading tilted in its vertical plane onto the plane (the
+/// yaw is kept exactly), z the normal.
+GroundPose PoseOnPlane(const Pose2& pose, const Vec3& point, const Vec3& normal, bool traversable);
+
 /// The ground pose of the vehicle on its four wheels (Placement::kWheelContacts): each wheel's contact
 /// point, placed from `projected` (the pose projected by the map), is projected onto the ground like
 /// a pose, and the box stands on the least-squares plane through the four contacts with the heading
