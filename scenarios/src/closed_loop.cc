@@ -96,28 +96,34 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
 // over the grown footprint plus a band and the grid is laid everywhere (mixing measured ground with
 // the grid would put noisy points a few centimetres from exact ones and make steep slivers of faces);
 // with kFill they stay, and a grid point is laid only where no low point lies within the grid's
-// spacing, so that a measured ramp ahead of the bumper is not cut off by the flat grid. Anything
-// taller just outside the body (a post the vehicle passes close by) stays in the map.
+// spacing, so that a measured ramp ahead of the bumper is not cut off by the flat grid. With kFill
+// and `blend_m` > 0, a grid point with measured ground within `blend_m` takes that ground's height
+// (inverse-distance mean), weighted down linearly with the distance to the nearest measured point:
+// at a crest under the pitched vehicle the grid then meets the measured slope instead of standing
+// off it by up to a few decimetres. Anything taller just outside the body (a post the vehicle passes
+// close by) stays in the map.
 void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v, double margin_m, double body_margin_m,
-                       double ground_band_m, double top_m, LoopConfig::PriorMode mode, Points* points_L) {
+                       double ground_band_m, double top_m, LoopConfig::PriorMode mode, double blend_m,
+                       Points* points_L) {
   const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
   const double y0 = -v.width_m / 2, y1 = v.width_m / 2;
   const bool fill = mode == LoopConfig::PriorMode::kFill;
   // A clearance band keeps measured ground off the grid's edge.
   constexpr double kBand = 0.12;
   constexpr double kStep = 0.25;
+  const double reach = std::max(kStep, blend_m);
   const double g = margin_m + kBand;
   const Eigen::Isometry3d T_B_L = T_L_B.inverse();
-  std::vector<Eigen::Vector2d> low_B;  // kFill: measured ground near the grid, in B's xy
+  std::vector<Vec3> low_B;  // kFill: measured ground near the grid, in B
   points_L->erase(std::remove_if(points_L->begin(), points_L->end(),
                                  [&](const Vec3& p_L) {
                                    const Vec3 p = T_B_L * p_L;
                                    if (p.z() >= top_m) return false;
                                    const bool low = p.z() < ground_band_m;
                                    if (low && fill) {
-                                     if (p.x() >= x0 - margin_m - kStep && p.x() <= x1 + margin_m + kStep &&
-                                         p.y() >= y0 - margin_m - kStep && p.y() <= y1 + margin_m + kStep) {
-                                       low_B.emplace_back(p.x(), p.y());
+                                     if (p.x() >= x0 - margin_m - reach && p.x() <= x1 + margin_m + reach &&
+                                         p.y() >= y0 - margin_m - reach && p.y() <= y1 + margin_m + reach) {
+                                       low_B.push_back(p);
                                      }
                                      return false;
                                    }
@@ -127,12 +133,21 @@ void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v
                   points_L->end());
   for (double x = x0 - margin_m; x <= x1 + margin_m + 1e-9; x += kStep) {
     for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) {
-      const Eigen::Vector2d q(x, y);
-      if (fill && std::any_of(low_B.begin(), low_B.end(),
-                              [&q](const Eigen::Vector2d& p) { return (p - q).squaredNorm() < kStep * kStep; })) {
-        continue;
+      // Nearest measured ground and the inverse-distance mean height of that within `reach`.
+      double nearest_sq = std::numeric_limits<double>::infinity(), weight_sum = 0.0, z_sum = 0.0;
+      for (const Vec3& p : low_B) {
+        const double d_sq = (p.x() - x) * (p.x() - x) + (p.y() - y) * (p.y() - y);
+        nearest_sq = std::min(nearest_sq, d_sq);
+        if (d_sq < reach * reach) {
+          const double w = 1.0 / (std::sqrt(d_sq) + 0.05);
+          weight_sum += w;
+          z_sum += w * p.z();
+        }
       }
-      points_L->push_back(T_L_B * Vec3(x, y, 0.0));
+      if (fill && nearest_sq < kStep * kStep) continue;  // measured ground right here
+      double z = 0.0;
+      if (fill && blend_m > 0.0 && weight_sum > 0.0) z = (1.0 - std::sqrt(nearest_sq) / reach) * z_sum / weight_sum;
+      points_L->push_back(T_L_B * Vec3(x, y, z));
     }
   }
 }
@@ -262,7 +277,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         const planner::VehicleBox& box = planner_config.vehicle;
         AddFootprintPrior(cloud.T_O_L.inverse() * sim.T_O_B(), vehicle, scenario.loop.footprint_prior_margin_m,
                           box.margin_m + 0.02, box.ground_clearance_m, box.height_m + box.margin_m + 0.05,
-                          scenario.loop.footprint_prior_mode, &cloud.points_L);
+                          scenario.loop.footprint_prior_mode, scenario.loop.footprint_prior_blend_m, &cloud.points_L);
       }
       t_buffer.Add(MsSince(t));
       t = Clock::now();

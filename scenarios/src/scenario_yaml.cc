@@ -301,6 +301,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("record_rate_hz", &s->loop.record_rate_hz);
     m.Get("mesh_snapshot_period_s", &s->loop.mesh_snapshot_period_s);
     m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
+    m.Get("footprint_prior_blend_m", &s->loop.footprint_prior_blend_m);
     m.Get("goal_candidates", &s->loop.goal_candidates);
     m.GetChoice("footprint_prior_mode", {{"replace", LoopConfig::PriorMode::kReplace}, {"fill", LoopConfig::PriorMode::kFill}},
                 &s->loop.footprint_prior_mode);
@@ -383,6 +384,10 @@ void Scenario::Validate() const {
   }
   if (loop.mesh_snapshot_period_s < 0.0) fail("params.loop.mesh_snapshot_period_s must be >= 0");
   if (loop.goal_candidates < 1) fail("params.loop.goal_candidates must be >= 1");
+  if (!(loop.footprint_prior_margin_m >= 0.0)) fail("params.loop.footprint_prior_margin_m must be >= 0");
+  if (!(loop.footprint_prior_blend_m >= 0.0) || loop.footprint_prior_blend_m > 5.0) {
+    fail("params.loop.footprint_prior_blend_m must be in [0, 5]");
+  }
   if (criteria.goal_radius_m <= 0.0) fail("criteria.goal.radius_m must be > 0");
   for (const Region& r : criteria.forbidden) {
     if (!(r.min_m.array() < r.max_m.array()).all()) fail("criteria.forbidden '" + r.name + "': min_m must be below max_m");

@@ -80,6 +80,11 @@ TEST(ScenarioYamlTest, UnknownKeysAndWrongTypesNameFileLineAndKey) {
   EXPECT_NE(ErrorOf("name: [unclosed\n").find("not valid YAML"), std::string::npos);
   EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gamma=0.5"}).find("gamma"), std::string::npos);
   EXPECT_NE(ErrorOf(kMinimal, {"nonsense"}).find("key=value"), std::string::npos);
+  EXPECT_NE(ErrorOf(kMinimal, {"params.loop.footprint_prior_blend_m=-0.5"}).find("footprint_prior_blend_m"),
+            std::string::npos);
+  EXPECT_DOUBLE_EQ(ParseScenario(kMinimal, "test.yaml", {"params.loop.footprint_prior_blend_m=0.75"})
+                       .loop.footprint_prior_blend_m,
+                   0.75);
   EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gammma=-0.1"}).find("unknown key 'params.mapper.gammma'"),
             std::string::npos);
 }

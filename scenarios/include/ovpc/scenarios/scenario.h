@@ -59,6 +59,12 @@ struct LoopConfig {
   /// spacing, so the grid fills the sensor's blind zone and never sits next to a measured point.
   enum class PriorMode { kReplace, kFill };
   PriorMode footprint_prior_mode = PriorMode::kReplace;
+  /// kFill only: a grid point with measured ground within this distance takes its height from that
+  /// ground (inverse-distance mean), weighted by 1 - d/blend with d the distance to the nearest
+  /// measured point, instead of sitting on the vehicle's plane. At a ramp's crest under the vehicle,
+  /// seen on the way up, the plane of the pitched vehicle runs a few centimetres to decimetres off
+  /// the measured slope; a flat grid there makes steep slivers. 0 disables.
+  double footprint_prior_blend_m = 0.0;
 };
 
 struct Scenario {
