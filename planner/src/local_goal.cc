@@ -1,8 +1,13 @@
 #include "ovpc/planner/local_goal.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <limits>
+#include <queue>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
@@ -44,6 +49,200 @@ std::vector<RoutePoint> Resample(const std::vector<Eigen::Vector2d>& route_O, co
   return out;
 }
 
+// Where along the resampled route "ahead" starts (the vehicle's progress, or else the route point
+// closest to the vehicle), and where it ends: once the route has been outside known free space for
+// more than max_gap_m.
+std::pair<std::size_t, std::size_t> AheadRange(const PlanningMap& map, const std::vector<RoutePoint>& route,
+                                               const Eigen::Vector2d& here, const LocalGoalConfig& config,
+                                               std::optional<double> vehicle_progress_m) {
+  std::size_t closest = 0;
+  if (vehicle_progress_m) {
+    while (closest + 1 < route.size() && route[closest + 1].progress_m <= *vehicle_progress_m) ++closest;
+  } else {
+    double closest_distance = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < route.size(); ++i) {
+      const double d = (route[i].position - here).norm();
+      if (d < closest_distance) closest_distance = d, closest = i;
+    }
+  }
+  std::size_t end = route.size();
+  if (std::isfinite(config.max_gap_m)) {
+    double gap_start = -1.0;
+    for (std::size_t i = closest; i < route.size(); ++i) {
+      if (map.IsKnownFree(route[i].position.x(), route[i].position.y())) {
+        gap_start = -1.0;
+      } else if (gap_start < 0.0) {
+        gap_start = route[i].progress_m;
+      } else if (route[i].progress_m - gap_start > config.max_gap_m) {
+        end = i;
+        break;
+      }
+    }
+  }
+  return {closest, end};
+}
+
+// The kReachable goals (see LocalGoalConfig::Mode).
+std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const VehicleBox& vehicle,
+                                            const std::vector<RoutePoint>& route, std::size_t closest, std::size_t end,
+                                            const Pose2& vehicle_L, const LocalGoalConfig& config,
+                                            const std::optional<LocalGoal>& previous_L, std::size_t max_count) {
+  std::vector<LocalGoal> goals;
+  const MapBounds bounds = map.Bounds();
+  if (!(bounds.max_x_m >= bounds.min_x_m) || !(bounds.max_y_m >= bounds.min_y_m)) return goals;
+  // The grid covers the map and a border of unknown ground around it, at most kMaxCells a side.
+  constexpr double kBorderM = 4.0;
+  constexpr int kMaxCells = 400;
+  const double cell = std::max(config.cell_m, (std::max(bounds.max_x_m - bounds.min_x_m, bounds.max_y_m - bounds.min_y_m) +
+                                               2 * kBorderM) / (kMaxCells - 1));
+  const double x0 = bounds.min_x_m - kBorderM, y0 = bounds.min_y_m - kBorderM;
+  const int nx = static_cast<int>((bounds.max_x_m - bounds.min_x_m + 2 * kBorderM) / cell) + 1;
+  const int ny = static_cast<int>((bounds.max_y_m - bounds.min_y_m + 2 * kBorderM) / cell) + 1;
+  const auto index = [nx](int ix, int iy) { return static_cast<std::size_t>(iy) * nx + ix; };
+  const auto centre = [&](int ix, int iy) { return Eigen::Vector2d(x0 + (ix + 0.5) * cell, y0 + (iy + 0.5) * cell); };
+  const auto cell_of = [&](const Eigen::Vector2d& p, int* ix, int* iy) {
+    *ix = static_cast<int>(std::floor((p.x() - x0) / cell));
+    *iy = static_cast<int>(std::floor((p.y() - y0) / cell));
+    return *ix >= 0 && *iy >= 0 && *ix < nx && *iy < ny;
+  };
+
+  // Cells: known traversable, known non-traversable (blocked) or unknown, from the ground projection
+  // of the cell's centre; blocked cells grow by half the vehicle's width.
+  enum : std::uint8_t { kUnknown, kFree, kBlocked };
+  std::vector<std::uint8_t> state(static_cast<std::size_t>(nx) * ny, kUnknown);
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      const Eigen::Vector2d c = centre(ix, iy);
+      if (!bounds.Contains(c.x(), c.y())) continue;
+      const std::optional<GroundPose> g = map.Project(Pose2{c.x(), c.y(), 0.0});
+      if (g) state[index(ix, iy)] = g->traversable ? kFree : kBlocked;
+    }
+  }
+  std::vector<std::uint8_t> blocked(state.size(), 0);
+  const int grow = static_cast<int>(std::ceil(0.5 * vehicle.width_m / cell));
+  for (int iy = 0; iy < ny; ++iy) {
+    for (int ix = 0; ix < nx; ++ix) {
+      if (state[index(ix, iy)] != kBlocked) continue;
+      for (int dy = -grow; dy <= grow; ++dy) {
+        for (int dx = -grow; dx <= grow; ++dx) {
+          const int jx = ix + dx, jy = iy + dy;
+          if (jx >= 0 && jy >= 0 && jx < nx && jy < ny && (dx * dx + dy * dy) * cell * cell <= (grow * cell) * (grow * cell)) {
+            blocked[index(jx, jy)] = 1;
+          }
+        }
+      }
+    }
+  }
+
+  // Dijkstra over the 8-connected grid from seeded cells, through the cells `passable` allows.
+  const auto dijkstra = [&](std::vector<double>* cost, const std::function<bool(std::size_t)>& passable) {
+    using Item = std::pair<double, std::size_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+    for (std::size_t i = 0; i < cost->size(); ++i) {
+      if (std::isfinite((*cost)[i])) open.push({(*cost)[i], i});
+    }
+    static constexpr std::array<std::array<int, 2>, 8> kSteps = {
+        {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}}};
+    while (!open.empty()) {
+      const auto [c, i] = open.top();
+      open.pop();
+      if (c > (*cost)[i]) continue;
+      const int ix = static_cast<int>(i % nx), iy = static_cast<int>(i / nx);
+      for (const auto& step : kSteps) {
+        const int jx = ix + step[0], jy = iy + step[1];
+        if (jx < 0 || jy < 0 || jx >= nx || jy >= ny) continue;
+        const std::size_t j = index(jx, jy);
+        if (!passable(j)) continue;
+        const double next = c + cell * ((step[0] != 0 && step[1] != 0) ? std::sqrt(2.0) : 1.0);
+        if (next < (*cost)[j]) {
+          (*cost)[j] = next;
+          open.push({next, j});
+        }
+      }
+    }
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  // Cost to go: from each route point ahead, its remaining route length; through all but blocked cells.
+  const double route_length = route.back().progress_m;
+  std::vector<double> to_go(state.size(), inf);
+  for (std::size_t i = closest; i < end; ++i) {
+    int ix, iy;
+    if (!cell_of(route[i].position, &ix, &iy) || blocked[index(ix, iy)]) continue;
+    to_go[index(ix, iy)] = std::min(to_go[index(ix, iy)], route_length - route[i].progress_m);
+  }
+  dijkstra(&to_go, [&](std::size_t j) { return !blocked[j]; });
+  // Reach: from the vehicle over known-traversable cells outside the grown blocked ones; the cells
+  // within a vehicle's width of the vehicle are passable whatever they are (it stands there).
+  const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
+  std::vector<double> reach(state.size(), inf);
+  int vx, vy;
+  if (!cell_of(here, &vx, &vy)) return goals;
+  reach[index(vx, vy)] = 0.0;
+  dijkstra(&reach, [&](std::size_t j) {
+    if (state[j] == kFree && !blocked[j]) return true;
+    const Eigen::Vector2d c = centre(static_cast<int>(j % nx), static_cast<int>(j / nx));
+    return state[j] != kBlocked && (c - here).norm() <= vehicle.width_m;
+  });
+
+  // Candidates: reached cells by cost to go, each with the heading down the cost-to-go field.
+  const auto qualifies = [&](const Pose2& pose, bool is_end) {
+    if (!is_end && (Eigen::Vector2d(pose.x_m, pose.y_m) - here).norm() < config.min_distance_m) return false;
+    if (!map.IsKnownFree(pose.x_m, pose.y_m)) return false;
+    return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
+  };
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    if (std::isfinite(reach[i]) && std::isfinite(to_go[i])) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return to_go[a] < to_go[b]; });
+  const double best_to_go = order.empty() ? inf : to_go[order.front()];
+
+  // The route's end, when it is reached, and the previous goal, when it is still nearly as good.
+  const auto cost_at = [&](const Eigen::Vector2d& p, const std::vector<double>& field) {
+    int ix, iy;
+    return cell_of(p, &ix, &iy) ? field[index(ix, iy)] : inf;
+  };
+  if (route.back().is_end && end == route.size()) {
+    const RoutePoint& r = route.back();
+    const Pose2 pose{r.position.x(), r.position.y(), r.yaw_rad};
+    if (std::isfinite(cost_at(r.position, reach)) && qualifies(pose, true)) goals.push_back({pose, r.progress_m, true});
+  }
+  if (goals.empty() && previous_L && config.keep_previous_within_m > 0.0) {
+    const Eigen::Vector2d p(previous_L->pose.x_m, previous_L->pose.y_m);
+    if (std::isfinite(cost_at(p, reach)) && cost_at(p, to_go) <= best_to_go + config.keep_previous_within_m &&
+        qualifies(previous_L->pose, previous_L->is_route_end)) {
+      goals.push_back(*previous_L);
+    }
+  }
+  constexpr std::size_t kMaxChecked = 400;
+  constexpr double kMinSpacingM = 2.0;
+  std::size_t checked = 0;
+  for (std::size_t i : order) {
+    if (goals.size() >= max_count || checked >= kMaxChecked) break;
+    const int ix = static_cast<int>(i % nx), iy = static_cast<int>(i / nx);
+    const Eigen::Vector2d c = centre(ix, iy);
+    if (std::any_of(goals.begin(), goals.end(), [&](const LocalGoal& g) {
+          return (Eigen::Vector2d(g.pose.x_m, g.pose.y_m) - c).norm() < kMinSpacingM;
+        })) {
+      continue;
+    }
+    // Heading: towards the neighbour two cells away with the least cost to go.
+    double best = to_go[i], yaw = vehicle_L.yaw_rad;
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int jx = ix + dx, jy = iy + dy;
+        if ((dx == 0 && dy == 0) || jx < 0 || jy < 0 || jx >= nx || jy >= ny) continue;
+        const double v = to_go[index(jx, jy)];
+        if (v < best) best = v, yaw = std::atan2(static_cast<double>(dy), static_cast<double>(dx));
+      }
+    }
+    ++checked;
+    const Pose2 pose{c.x(), c.y(), NormalizeYaw(yaw)};
+    if (qualifies(pose, false)) goals.push_back({pose, std::max(0.0, route_length - to_go[i]), false});
+  }
+  return goals;
+}
+
 }  // namespace
 
 void LocalGoalConfig::Validate() const {
@@ -58,6 +257,9 @@ void LocalGoalConfig::Validate() const {
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
     throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));
+  }
+  if (!(cell_m >= 0.1) || !(cell_m <= 5.0)) {
+    throw std::invalid_argument("LocalGoalConfig: cell_m must be in [0.1, 5], got " + std::to_string(cell_m));
   }
   if (!(step_m > 0.0) || !std::isfinite(step_m)) {
     throw std::invalid_argument("LocalGoalConfig: step_m must be > 0, got " + std::to_string(step_m));
@@ -75,31 +277,11 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
   if (route.empty() || max_count == 0) return goals;
   const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
 
-  // "Ahead" starts at the vehicle's progress, or else at the route point closest to the vehicle.
-  std::size_t closest = 0;
-  if (vehicle_progress_m) {
-    while (closest + 1 < route.size() && route[closest + 1].progress_m <= *vehicle_progress_m) ++closest;
-  } else {
-    double closest_distance = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < route.size(); ++i) {
-      const double d = (route[i].position - here).norm();
-      if (d < closest_distance) closest_distance = d, closest = i;
-    }
-  }
-  // ... and ends where the route has been outside known free space for more than max_gap_m.
-  std::size_t end = route.size();
-  if (std::isfinite(config.max_gap_m)) {
-    double gap_start = -1.0;
-    for (std::size_t i = closest; i < route.size(); ++i) {
-      if (map.IsKnownFree(route[i].position.x(), route[i].position.y())) {
-        gap_start = -1.0;
-      } else if (gap_start < 0.0) {
-        gap_start = route[i].progress_m;
-      } else if (route[i].progress_m - gap_start > config.max_gap_m) {
-        end = i;
-        break;
-      }
-    }
+  // "Ahead" starts at the vehicle's progress, or else at the route point closest to the vehicle, and
+  // ends where the route has been outside known free space for more than max_gap_m.
+  const auto [closest, end] = AheadRange(map, route, here, config, vehicle_progress_m);
+  if (config.mode == LocalGoalConfig::Mode::kReachable) {
+    return SelectReachableGoals(map, vehicle, route, closest, end, vehicle_L, config, previous_L, max_count);
   }
 
   std::vector<double> offsets = {0.0};

@@ -278,6 +278,10 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
     m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
+    m.GetChoice("goal_mode",
+                {{"route", planner::LocalGoalConfig::Mode::kRoute}, {"reachable", planner::LocalGoalConfig::Mode::kReachable}},
+                &s->local_goal.mode);
+    m.Get("goal_cell_m", &s->local_goal.cell_m);
     m.Get("goal_offset_penalty", &s->local_goal.lateral_offset_penalty);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);

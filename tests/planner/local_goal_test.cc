@@ -208,5 +208,94 @@ TEST(LocalGoalTest, CandidatesEndWhereTheRouteLeavesTheMapForLongerThanTheGap) {
   EXPECT_NEAR(home.front().pose.y_m, 3.0, 1e-12);
 }
 
+// A flat known square, x and y in [-10, 10], with a wall of non-traversable ground across it at
+// x in [4, 5] from y = -10 up to y = 4: the way round is the gap between y = 4 and y = 10.
+class WallMap : public PlanningMap {
+ public:
+  static bool Wall(double x, double y) { return x >= 4.0 && x <= 5.0 && y <= 4.0; }
+  static bool Known(double x, double y) { return std::abs(x) <= 10.0 && std::abs(y) <= 10.0; }
+  std::optional<GroundPose> Project(const Pose2& pose) const override {
+    if (!Known(pose.x_m, pose.y_m)) return std::nullopt;
+    return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), !Wall(pose.x_m, pose.y_m));
+  }
+  PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override {
+    // The footprint, sampled every 0.1 m, must lie on known ground away from the wall.
+    const double x0 = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
+    const double half = 0.5 * vehicle.width_m + vehicle.margin_m;
+    for (double x = x0; x <= x0 + vehicle.length_m + 2 * vehicle.margin_m + 1e-9; x += 0.1) {
+      for (double y = -half; y <= half + 1e-9; y += 0.1) {
+        const Vec3 p = ground.T_L_B * Vec3(x, y, 0.0);
+        if (!Known(p.x(), p.y())) return PoseCheck::kGroundUnderFootprint;
+        if (Wall(p.x(), p.y())) return PoseCheck::kGroundUnderFootprint;
+      }
+    }
+    return PoseCheck::kValid;
+  }
+  bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m) && !Wall(x_m, y_m); }
+  MapBounds Bounds() const override { return MapBounds{-10.0, 10.0, -10.0, 10.0}; }
+};
+
+TEST(LocalGoalTest, ReachableGoalTakesTheWayRoundAWallTheRouteRunsInto) {
+  const WallMap map;
+  const VehicleBox vehicle;
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {30.0, 0.0}};
+  const Pose2 start{-5.0, 0.0, 0.0};
+  LocalGoalConfig config;
+  config.max_gap_m = 8.0;
+  // The reachable goal lies past the wall, where the vehicle gets only through the gap.
+  config.mode = LocalGoalConfig::Mode::kReachable;
+  const auto goals = SelectLocalGoals(map, vehicle, route, kIdentity, start, config, std::nullopt, 3);
+  ASSERT_FALSE(goals.empty());
+  const LocalGoal& best = goals.front();
+  EXPECT_GT(best.pose.x_m, 5.0);
+  EXPECT_EQ(CheckPose(map, vehicle, best.pose), PoseCheck::kValid);
+  EXPECT_GT(best.route_progress_m, 15.0);
+  EXPECT_LT(std::abs(NormalizeYaw(best.pose.yaw_rad)), kPi / 2);  // heading on towards the route's end
+  for (const LocalGoal& g : goals) {
+    EXPECT_EQ(CheckPose(map, vehicle, g.pose), PoseCheck::kValid);
+    EXPECT_FALSE(g.is_route_end);
+  }
+
+  // With the gap closed nothing past the wall is reachable. The route rule still picks a goal past
+  // it (the wall is narrower than the gap the route may run outside known free space); the
+  // reachable goals stay in front of it.
+  struct Closed : WallMap {
+    std::optional<GroundPose> Project(const Pose2& pose) const override {
+      if (!Known(pose.x_m, pose.y_m)) return std::nullopt;
+      const bool wall = pose.x_m >= 4.0 && pose.x_m <= 5.0;
+      return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), !wall);
+    }
+    bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m) && !(x_m >= 4.0 && x_m <= 5.0); }
+  };
+  const Closed closed;
+  LocalGoalConfig route_rule = config;
+  route_rule.mode = LocalGoalConfig::Mode::kRoute;
+  const auto on_route = SelectLocalGoal(closed, vehicle, route, kIdentity, start, route_rule);
+  ASSERT_TRUE(on_route.has_value());
+  EXPECT_GT(on_route->pose.x_m, 5.0);
+  const auto blocked = SelectLocalGoals(closed, vehicle, route, kIdentity, start, config, std::nullopt, 3);
+  ASSERT_FALSE(blocked.empty());
+  for (const LocalGoal& g : blocked) EXPECT_LT(g.pose.x_m, 4.0);
+}
+
+TEST(LocalGoalTest, ReachableGoalOnOpenGroundFollowsTheRoute) {
+  const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {0.0, 0.0}, {40.0, 0.0}};
+  LocalGoalConfig config;
+  config.mode = LocalGoalConfig::Mode::kReachable;
+  const auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_GT(goal->pose.x_m, 5.0);  // near the map's far rim along the route
+  EXPECT_LT(std::abs(goal->pose.y_m), 1.5);
+  EXPECT_EQ(CheckPose(*Flat().map, VehicleBox{}, goal->pose), PoseCheck::kValid);
+
+  // The route's end, when reached, is the goal itself.
+  const std::vector<Eigen::Vector2d> short_route = {{-7.0, 0.0}, {3.0, 2.0}};
+  const auto end = SelectLocalGoal(*Flat().map, VehicleBox{}, short_route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(end.has_value());
+  EXPECT_TRUE(end->is_route_end);
+  EXPECT_NEAR(end->pose.x_m, 3.0, 1e-9);
+  EXPECT_NEAR(end->pose.y_m, 2.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace ovpc::planner
