@@ -115,7 +115,14 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
       const Eigen::Vector2d c = centre(ix, iy);
       if (!bounds.Contains(c.x(), c.y())) continue;
       const std::optional<GroundPose> g = map.Project(Pose2{c.x(), c.y(), 0.0});
-      if (g) state[index(ix, iy)] = g->traversable ? kFree : kBlocked;
+      if (!g) continue;
+      // Known traversable from the nearest visible point; known non-traversable only from a point
+      // in the cell: a single steep vertex among sparse ground claims no cells around it.
+      if (g->traversable) {
+        state[index(ix, iy)] = kFree;
+      } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell) {
+        state[index(ix, iy)] = kBlocked;
+      }
     }
   }
   std::vector<std::uint8_t> blocked(state.size(), 0);
@@ -162,15 +169,21 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
     }
   };
   const double inf = std::numeric_limits<double>::infinity();
-  // Cost to go: from each route point ahead, its remaining route length; through all but blocked cells.
+  // Cost to go: from the last route point ahead inside the grid (where the route leaves the map, or
+  // its end), its remaining route length; every other place counts its way to that point. Seeding
+  // every route point with its remaining length instead would make the foot of a wall across the
+  // route as good as the route beyond it.
   const double route_length = route.back().progress_m;
   std::vector<double> to_go(state.size(), inf);
-  for (std::size_t i = closest; i < end; ++i) {
+  for (std::size_t i = end; i-- > closest;) {
     int ix, iy;
-    if (!cell_of(route[i].position, &ix, &iy) || blocked[index(ix, iy)]) continue;
-    to_go[index(ix, iy)] = std::min(to_go[index(ix, iy)], route_length - route[i].progress_m);
+    if (!cell_of(route[i].position, &ix, &iy) || state[index(ix, iy)] == kBlocked) continue;
+    to_go[index(ix, iy)] = route_length - route[i].progress_m;
+    break;
   }
-  dijkstra(&to_go, [&](std::size_t j) { return !blocked[j]; });
+  // The cost to go goes round known non-traversable cells themselves (optimistic, like unknown
+  // ground); the vehicle's reach keeps half its width from them.
+  dijkstra(&to_go, [&](std::size_t j) { return state[j] != kBlocked; });
   // Reach: from the vehicle over known-traversable cells outside the grown blocked ones; the cells
   // within a vehicle's width of the vehicle are passable whatever they are (it stands there).
   const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);

@@ -57,6 +57,7 @@ GroundPose PoseOnPlane(const Pose2& pose, const Vec3& point, const Vec3& normal,
   const Vec3 x_axis = (heading - heading.dot(normal) / normal.z() * Vec3::UnitZ()).normalized();
   GroundPose ground;
   ground.traversable = traversable;
+  ground.surface_point = point;
   Eigen::Matrix3d R_L_B;
   R_L_B.col(0) = x_axis;
   R_L_B.col(1) = normal.cross(x_axis);

@@ -337,6 +337,10 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         in.last_plan_s = last_plan_s;
         in.has_path = follower.has_value() && !follower->done();
         in.path_blocked = blocked;
+        if (blocked) {
+          const planner::PathPose at = path_O.Poses()[blocked_index];
+          in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - sim.T_O_B().translation().head<2>()).norm();
+        }
         in.distance_to_goal_m = goal_O ? (sim.T_O_B().translation().head<2>() - *goal_O).norm() : 0.0;
         in.goal_is_route_end = goal_is_route_end;
         const planner::ReplanReason reason = planner::CheckReplan(scenario.replan, in);

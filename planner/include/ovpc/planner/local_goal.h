@@ -15,12 +15,12 @@ namespace ovpc::planner {
 
 struct LocalGoalConfig {
   /// kRoute: the farthest qualifying point on the route or on a line beside it (the paper's rule,
-  /// with offsets). kReachable: a cost-to-go field over a planar grid of the map, from the route
-  /// ahead (each route point costs its remaining route length) through known-traversable and
-  /// unknown cells around known non-traversable ones, and the goal is the place the vehicle can
-  /// reach over known-traversable cells that has the least cost-to-go: when the route runs into a
-  /// wall or a too-steep slope, the goal moves to the way round it that the map shows (a ramp's
-  /// lane to the side), not to the foot of the wall.
+  /// with offsets). kReachable: a cost-to-go field over a planar grid of the map, from the last
+  /// route point ahead in the grid (which costs its remaining route length) through
+  /// known-traversable and unknown cells around known non-traversable ones, and the goal is the
+  /// place the vehicle can reach over known-traversable cells that has the least cost to go: when
+  /// the route runs into a wall or a too-steep slope, the goal moves to the way round it that the
+  /// map shows (a ramp's lane to the side), not to the foot of the wall.
   enum class Mode { kRoute, kReachable };
   Mode mode = Mode::kRoute;
   /// kReachable: grid cell edge length.

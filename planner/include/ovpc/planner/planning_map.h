@@ -53,6 +53,7 @@ struct VehicleBox {
 struct GroundPose {
   Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();
   bool traversable = false;  ///< the surface point the pose was projected onto is traversable
+  Vec3 surface_point = Vec3::Zero();  ///< that point, in the map frame
 };
 
 /// Axis-aligned planar extent of a map, the planner's sampling bounds.
