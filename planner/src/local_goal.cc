@@ -229,6 +229,8 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   }
   constexpr std::size_t kMaxChecked = 400;
   constexpr double kMinSpacingM = 2.0;
+  constexpr double kInteriorM = 0.5;
+  constexpr double kHeadingM = 2.5;
   std::size_t checked = 0;
   for (std::size_t i : order) {
     if (goals.size() >= max_count || checked >= kMaxChecked) break;
@@ -239,12 +241,25 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
         })) {
       continue;
     }
-    // Heading: towards the neighbour two cells away with the least cost to go.
-    double best = to_go[i], yaw = vehicle_L.yaw_rad;
-    for (int dy = -2; dy <= 2; ++dy) {
-      for (int dx = -2; dx <= 2; ++dx) {
+    // Only cells inside the reached region, not on its rim: the rim of what is known is where
+    // sparse ground comes and goes from one map update to the next.
+    const int rim = static_cast<int>(std::ceil(kInteriorM / cell));
+    bool interior = true;
+    for (int dy = -rim; dy <= rim && interior; ++dy) {
+      for (int dx = -rim; dx <= rim && interior; ++dx) {
         const int jx = ix + dx, jy = iy + dy;
-        if ((dx == 0 && dy == 0) || jx < 0 || jy < 0 || jx >= nx || jy >= ny) continue;
+        interior = jx >= 0 && jy >= 0 && jx < nx && jy < ny && std::isfinite(reach[index(jx, jy)]);
+      }
+    }
+    if (!interior) continue;
+    // Heading: towards the cell with the least cost to go within kHeadingM (a wide stencil, so that
+    // the heading does not jump between the eight grid directions).
+    const int around = static_cast<int>(std::ceil(kHeadingM / cell));
+    double best = to_go[i], yaw = vehicle_L.yaw_rad;
+    for (int dy = -around; dy <= around; ++dy) {
+      for (int dx = -around; dx <= around; ++dx) {
+        const int jx = ix + dx, jy = iy + dy;
+        if ((dx == 0 && dy == 0) || jx < 0 || jy < 0 || jx >= nx || jy >= ny || dx * dx + dy * dy > around * around) continue;
         const double v = to_go[index(jx, jy)];
         if (v < best) best = v, yaw = std::atan2(static_cast<double>(dy), static_cast<double>(dx));
       }
