@@ -203,12 +203,27 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
     if (!map.IsKnownFree(pose.x_m, pose.y_m)) return false;
     return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
   };
+  // Score: cost to go plus reach_offset_penalty per metre away from the route ahead (sampled every
+  // metre).
+  std::vector<Eigen::Vector2d> route_ahead;
+  if (config.reach_offset_penalty > 0.0) {
+    for (std::size_t i = closest; i < end; i += 4) route_ahead.push_back(route[i].position);
+    if (end > closest) route_ahead.push_back(route[end - 1].position);
+  }
+  const auto off_route = [&](const Eigen::Vector2d& p) {
+    double best = inf;
+    for (const Eigen::Vector2d& r : route_ahead) best = std::min(best, (r - p).squaredNorm());
+    return route_ahead.empty() ? 0.0 : std::sqrt(best);
+  };
+  std::vector<double> score(state.size(), inf);
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < state.size(); ++i) {
-    if (std::isfinite(reach[i]) && std::isfinite(to_go[i])) order.push_back(i);
+    if (!std::isfinite(reach[i]) || !std::isfinite(to_go[i])) continue;
+    score[i] = to_go[i] + config.reach_offset_penalty * off_route(centre(static_cast<int>(i % nx), static_cast<int>(i / nx)));
+    order.push_back(i);
   }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return to_go[a] < to_go[b]; });
-  const double best_to_go = order.empty() ? inf : to_go[order.front()];
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return score[a] < score[b]; });
+  const double best_score = order.empty() ? inf : score[order.front()];
 
   // The route's end, when it is reached, and the previous goal, when it is still nearly as good.
   const auto cost_at = [&](const Eigen::Vector2d& p, const std::vector<double>& field) {
@@ -222,7 +237,7 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   }
   if (goals.empty() && previous_L && config.keep_previous_within_m > 0.0) {
     const Eigen::Vector2d p(previous_L->pose.x_m, previous_L->pose.y_m);
-    if (std::isfinite(cost_at(p, reach)) && cost_at(p, to_go) <= best_to_go + config.keep_previous_within_m &&
+    if (std::isfinite(cost_at(p, reach)) && cost_at(p, score) <= best_score + config.keep_previous_within_m &&
         qualifies(previous_L->pose, previous_L->is_route_end)) {
       goals.push_back(*previous_L);
     }
@@ -285,6 +300,10 @@ void LocalGoalConfig::Validate() const {
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
     throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));
+  }
+  if (!(reach_offset_penalty >= 0.0) || !std::isfinite(reach_offset_penalty)) {
+    throw std::invalid_argument("LocalGoalConfig: reach_offset_penalty must be >= 0, got " +
+                                std::to_string(reach_offset_penalty));
   }
   if (!(cell_m >= 0.1) || !(cell_m <= 5.0)) {
     throw std::invalid_argument("LocalGoalConfig: cell_m must be in [0.1, 5], got " + std::to_string(cell_m));

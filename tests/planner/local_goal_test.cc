@@ -287,6 +287,14 @@ TEST(LocalGoalTest, ReachableGoalOnOpenGroundFollowsTheRoute) {
   EXPECT_GT(goal->pose.x_m, 5.0);  // near the map's far rim along the route
   EXPECT_LT(std::abs(goal->pose.y_m), 1.5);
   EXPECT_EQ(CheckPose(*Flat().map, VehicleBox{}, goal->pose), PoseCheck::kValid);
+  // Weighing the distance from the route keeps the goal on it here (and never moves it away).
+  LocalGoalConfig near_route = config;
+  near_route.reach_offset_penalty = 0.5;
+  const auto on_route = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, near_route);
+  ASSERT_TRUE(on_route.has_value());
+  EXPECT_LE(std::abs(on_route->pose.y_m), std::abs(goal->pose.y_m) + 1e-9);
+  near_route.reach_offset_penalty = -1.0;
+  EXPECT_THROW(near_route.Validate(), std::invalid_argument);
 
   // The route's end, when reached, is the goal itself.
   const std::vector<Eigen::Vector2d> short_route = {{-7.0, 0.0}, {3.0, 2.0}};

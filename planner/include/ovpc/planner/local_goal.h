@@ -25,6 +25,9 @@ struct LocalGoalConfig {
   Mode mode = Mode::kRoute;
   /// kReachable: grid cell edge length.
   double cell_m = 0.5;
+  /// kReachable: candidates are ranked by cost to go plus this many metres per metre away from the
+  /// route ahead, so that of two ways round an obstacle about as long the one nearer the route wins.
+  double reach_offset_penalty = 0.0;
   /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
   double min_distance_m = 4.0;
   /// The route is examined at this spacing between its waypoints.
