@@ -246,6 +246,8 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   constexpr double kMinSpacingM = 2.0;
   constexpr double kInteriorM = 0.5;
   constexpr double kHeadingM = 2.5;
+  const int rim = static_cast<int>(std::ceil(kInteriorM / cell));
+  const int around = static_cast<int>(std::ceil(kHeadingM / cell));
   std::size_t checked = 0;
   for (std::size_t i : order) {
     if (goals.size() >= max_count || checked >= kMaxChecked) break;
@@ -258,7 +260,6 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
     }
     // Only cells inside the reached region, not on its rim: the rim of what is known is where
     // sparse ground comes and goes from one map update to the next.
-    const int rim = static_cast<int>(std::ceil(kInteriorM / cell));
     bool interior = true;
     for (int dy = -rim; dy <= rim && interior; ++dy) {
       for (int dx = -rim; dx <= rim && interior; ++dx) {
@@ -269,7 +270,6 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
     if (!interior) continue;
     // Heading: towards the cell with the least cost to go within kHeadingM (a wide stencil, so that
     // the heading does not jump between the eight grid directions).
-    const int around = static_cast<int>(std::ceil(kHeadingM / cell));
     double best = to_go[i], yaw = vehicle_L.yaw_rad;
     for (int dy = -around; dy <= around; ++dy) {
       for (int dx = -around; dx <= around; ++dx) {

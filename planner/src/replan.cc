@@ -24,14 +24,11 @@ void ReplanConfig::Validate() const {
   if (!(goal_too_close_m >= 0.0) || !std::isfinite(goal_too_close_m)) {
     throw std::invalid_argument("ReplanConfig: goal_too_close_m must be >= 0, got " + std::to_string(goal_too_close_m));
   }
-  if (!(blocked_horizon_m > 0.0)) {
-    throw std::invalid_argument("ReplanConfig: blocked_horizon_m must be > 0, got " + std::to_string(blocked_horizon_m));
-  }
 }
 
 ReplanReason CheckReplan(const ReplanConfig& config, const ReplanInputs& inputs) {
   if (!inputs.has_path || !inputs.last_plan_s) return ReplanReason::kNoPath;
-  if (inputs.path_blocked && inputs.blocked_distance_m <= config.blocked_horizon_m) return ReplanReason::kPathBlocked;
+  if (inputs.path_blocked) return ReplanReason::kPathBlocked;
   if (!inputs.goal_is_route_end && inputs.distance_to_goal_m < config.goal_too_close_m) {
     return ReplanReason::kGoalTooClose;
   }

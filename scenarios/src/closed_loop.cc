@@ -133,12 +133,13 @@ void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const sim::GatorParams& v
                   points_L->end());
   for (double x = x0 - margin_m; x <= x1 + margin_m + 1e-9; x += kStep) {
     for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) {
-      // Nearest measured ground and the inverse-distance mean height of that within `reach`.
+      // Nearest measured ground and, when blending, the inverse-distance mean height of that within
+      // `reach`.
       double nearest_sq = std::numeric_limits<double>::infinity(), weight_sum = 0.0, z_sum = 0.0;
       for (const Vec3& p : low_B) {
         const double d_sq = (p.x() - x) * (p.x() - x) + (p.y() - y) * (p.y() - y);
         nearest_sq = std::min(nearest_sq, d_sq);
-        if (d_sq < reach * reach) {
+        if (blend_m > 0.0 && d_sq < reach * reach) {
           const double w = 1.0 / (std::sqrt(d_sq) + 0.05);
           weight_sum += w;
           z_sum += w * p.z();
@@ -337,10 +338,6 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         in.last_plan_s = last_plan_s;
         in.has_path = follower.has_value() && !follower->done();
         in.path_blocked = blocked;
-        if (blocked) {
-          const planner::PathPose at = path_O.Poses()[blocked_index];
-          in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - sim.T_O_B().translation().head<2>()).norm();
-        }
         in.distance_to_goal_m = goal_O ? (sim.T_O_B().translation().head<2>() - *goal_O).norm() : 0.0;
         in.goal_is_route_end = goal_is_route_end;
         const planner::ReplanReason reason = planner::CheckReplan(scenario.replan, in);

@@ -1,7 +1,5 @@
 #include "ovpc/planner/replan.h"
 
-#include <stdexcept>
-
 #include <gtest/gtest.h>
 
 namespace ovpc::planner {
@@ -26,20 +24,6 @@ TEST(ReplanTest, EachTriggerOfThePaper) {
   ReplanInputs blocked = Standing(10.1);
   blocked.path_blocked = true;
   EXPECT_EQ(CheckReplan(config, blocked), ReplanReason::kPathBlocked);
-  blocked.blocked_distance_m = 50.0;  // the default horizon is unlimited
-  EXPECT_EQ(CheckReplan(config, blocked), ReplanReason::kPathBlocked);
-  // With a horizon, a pose blocked beyond it waits until the vehicle gets near or the period ends.
-  ReplanConfig horizon = config;
-  horizon.blocked_horizon_m = 3.0;
-  blocked.blocked_distance_m = 3.5;
-  EXPECT_EQ(CheckReplan(horizon, blocked), ReplanReason::kNone);
-  blocked.blocked_distance_m = 2.5;
-  EXPECT_EQ(CheckReplan(horizon, blocked), ReplanReason::kPathBlocked);
-  blocked.blocked_distance_m = 3.5;
-  blocked.now_s = 11.0;
-  EXPECT_EQ(CheckReplan(horizon, blocked), ReplanReason::kPeriodElapsed);
-  horizon.blocked_horizon_m = 0.0;
-  EXPECT_THROW(horizon.Validate(), std::invalid_argument);
   // (ii) the goal is too close, unless it is the end of the route.
   ReplanInputs close = Standing(10.1);
   close.distance_to_goal_m = 1.5;
