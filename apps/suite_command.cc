@@ -108,6 +108,7 @@ Runner RegisterSuite(CLI::App& app) {
     std::vector<std::string> inputs;
     int jobs = 2;
     int seeds = 1;
+    int first_seed = 1;
     std::vector<std::string> sweeps;
     std::vector<std::string> skip_labels;
     std::string out = "out/suite";
@@ -120,13 +121,15 @@ Runner RegisterSuite(CLI::App& app) {
       "run failed, 2 bad input.");
   cmd->add_option("inputs", o->inputs, "Scenario folders (every *.yaml in them) or files")->required();
   cmd->add_option("-j,--jobs", o->jobs, "Runs at the same time")->capture_default_str();
-  cmd->add_option("--seeds", o->seeds, "Seeds 1..K for every scenario")->capture_default_str();
+  cmd->add_option("--seeds", o->seeds, "K seeds for every scenario: F..F+K-1 (F = --first-seed)")->capture_default_str();
+  cmd->add_option("--first-seed", o->first_seed, "First seed F (e.g. 4 with --seeds 3: seeds 4, 5, 6)")->capture_default_str();
   cmd->add_option("--sweep", o->sweeps, "key=v1,v2,...: run every combination of values (repeatable)");
   cmd->add_option("--skip-label", o->skip_labels, "Leave out scenarios with this label (e.g. long)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   return [o]() {
     if (o->jobs < 1) throw BadInput("--jobs must be >= 1");
     if (o->seeds < 1) throw BadInput("--seeds must be >= 1");
+    if (o->first_seed < 0) throw BadInput("--first-seed must be >= 0");
     std::vector<std::string> files;
     for (const std::string& in : o->inputs) {
       if (fs::is_directory(in)) {
@@ -158,7 +161,7 @@ Runner RegisterSuite(CLI::App& app) {
         std::string tag = s.name;
         for (const auto& kv : combo) tag += "__" + kv;
         std::replace(tag.begin(), tag.end(), '/', '_');
-        for (int seed = 1; seed <= o->seeds; ++seed) {
+        for (int seed = o->first_seed; seed < o->first_seed + o->seeds; ++seed) {
           Job job;
           job.file = file;
           job.scenario = s.name;

@@ -160,5 +160,39 @@ TEST_F(CliTest, BundledSampleCloudMeshes) {
   EXPECT_EQ(stats["watertight"], true);
 }
 
+// `ovpc suite` end to end on a short flat scenario: a sweep of two speeds, two seeds from
+// --first-seed, in two parallel processes; a run that cannot make its deadline fails the suite.
+TEST_F(CliTest, SuiteRunsTheSweepAndSeedsAndWritesJUnitAndSummary) {
+  WriteText("short.yaml", R"(name: short_flat
+time_limit_s: 8
+terrain: {kind: flat, size_m: [40, 20]}
+route: [[0, 0], [5, 0]]
+criteria:
+  goal: {x_m: 5.0, y_m: 0.0, radius_m: 1.0}
+  no_collision: true
+  max_time_s: 8
+)");
+  const RunResult r = Run("suite " + Path("short.yaml") + " --jobs 2 --seeds 2 --first-seed 4 --sweep params.controller.target_speed_mps=1.5,2.0 --out " +
+                          Path("suite"));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* settings : {"short_flat__params.controller.target_speed_mps=1.5", "short_flat__params.controller.target_speed_mps=2.0"}) {
+    for (const char* seed : {"seed_4", "seed_5"}) {
+      EXPECT_TRUE(fs::exists(fs::path(Path("suite")) / settings / seed / "result.json")) << settings << " " << seed;
+    }
+    EXPECT_FALSE(fs::exists(fs::path(Path("suite")) / settings / "seed_1"));
+  }
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("suite/summary.json")));
+  const std::string junit = ReadAll(Path("suite/junit.xml"));
+  EXPECT_NE(junit.find("<testsuite"), std::string::npos);
+  EXPECT_NE(junit.find("tests=\"4\""), std::string::npos) << junit;
+  EXPECT_NE(r.out.find("4 of 4 runs passed"), std::string::npos) << r.out;
+  EXPECT_NE(summary.dump().find("\"seed\":5"), std::string::npos);
+
+  const RunResult late = Run("suite " + Path("short.yaml") + " --sweep criteria.max_time_s=1 --out " + Path("late"));
+  EXPECT_EQ(late.exit_code, 1) << late.out << late.err;
+  EXPECT_NE(late.out.find("0 of 1 runs passed"), std::string::npos) << late.out;
+  EXPECT_EQ(Run("suite " + Path("short.yaml") + " --first-seed -1").exit_code, 2);
+}
+
 }  // namespace
 }  // namespace ovpc
