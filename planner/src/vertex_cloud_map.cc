@@ -19,6 +19,14 @@ constexpr int kMaxCells = 512;
 
 }  // namespace
 
+bool VertexCloudMap::Config::SupportRegion::Contains(double x_m, double y_m) const {
+  if (empty()) return false;
+  const double dx = x_m - pose.x_m, dy = y_m - pose.y_m;
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  const double along = c * dx + s * dy, across = -s * dx + c * dy;
+  return along >= min_x_m && along <= max_x_m && std::abs(across) <= half_width_m;
+}
+
 void VertexCloudMap::Config::Validate() const {
   if (!std::isfinite(ground_reference_z_m)) {
     throw std::invalid_argument("VertexCloudMap::Config: ground_reference_z_m must be finite");
@@ -26,6 +34,11 @@ void VertexCloudMap::Config::Validate() const {
   if (!(max_projection_distance_m > 0.0) || !std::isfinite(max_projection_distance_m)) {
     throw std::invalid_argument("VertexCloudMap::Config: max_projection_distance_m must be > 0, got " +
                                 std::to_string(max_projection_distance_m));
+  }
+  const SupportRegion& r = known_support;
+  if (!std::isfinite(r.pose.x_m) || !std::isfinite(r.pose.y_m) || !std::isfinite(r.pose.yaw_rad) ||
+      !std::isfinite(r.min_x_m) || !std::isfinite(r.max_x_m) || !std::isfinite(r.half_width_m)) {
+    throw std::invalid_argument("VertexCloudMap::Config: known_support must be finite");
   }
 }
 
@@ -138,7 +151,9 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
   // close to a visible point, and that point is traversable.
   for (double x : {0.0, vehicle.wheelbase_m}) {
     for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
-      const auto nearest = cloud_.Nearest(ground.T_L_B * Vec3(x, y, 0.0));
+      const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
+      if (config_.known_support.Contains(contact.x(), contact.y())) continue;  // where the vehicle stands
+      const auto nearest = cloud_.Nearest(contact);
       if (!nearest || nearest->distance_m > vehicle.wheel_support_m || !cloud_.traversable()[nearest->index]) {
         return PoseCheck::kGroundUnderFootprint;
       }

@@ -294,6 +294,14 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         const Pose2 vehicle_L = ToPose2(T_L_B);
         planner::VertexCloudMap::Config map_config = scenario.map;
         map_config.ground_reference_z_m = T_L_B.translation().z();
+        if (scenario.loop.known_support_margin_m >= 0.0) {
+          const planner::VehicleBox& box = planner_config.vehicle;
+          const double grow = scenario.loop.known_support_margin_m;
+          map_config.known_support.pose = vehicle_L;
+          map_config.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
+          map_config.known_support.max_x_m = box.centre_ahead_m + 0.5 * box.length_m + grow;
+          map_config.known_support.half_width_m = 0.5 * box.width_m + grow;
+        }
         const planner::VertexCloudMap vmap(map.cloud, map_config);
         const Vec3 L_to_O = cloud.T_O_L.translation();
 

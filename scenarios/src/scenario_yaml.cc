@@ -307,6 +307,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("mesh_snapshot_period_s", &s->loop.mesh_snapshot_period_s);
     m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
     m.Get("footprint_prior_blend_m", &s->loop.footprint_prior_blend_m);
+    m.Get("known_support_margin_m", &s->loop.known_support_margin_m);
     m.Get("goal_candidates", &s->loop.goal_candidates);
     m.GetChoice("footprint_prior_mode", {{"replace", LoopConfig::PriorMode::kReplace}, {"fill", LoopConfig::PriorMode::kFill}},
                 &s->loop.footprint_prior_mode);
@@ -392,6 +393,9 @@ void Scenario::Validate() const {
   if (!(loop.footprint_prior_margin_m >= 0.0)) fail("params.loop.footprint_prior_margin_m must be >= 0");
   if (!(loop.footprint_prior_blend_m >= 0.0) || loop.footprint_prior_blend_m > 5.0) {
     fail("params.loop.footprint_prior_blend_m must be in [0, 5]");
+  }
+  if (!std::isfinite(loop.known_support_margin_m) || loop.known_support_margin_m > 2.0) {
+    fail("params.loop.known_support_margin_m must be at most 2 (negative disables)");
   }
   if (criteria.goal_radius_m <= 0.0) fail("criteria.goal.radius_m must be > 0");
   for (const Region& r : criteria.forbidden) {

@@ -116,6 +116,52 @@ TEST(VertexCloudMapTest, WheelRuleLetsLowNonTraversablePointsPassBetweenTheWheel
   EXPECT_EQ(CheckPose(clean, wheels, pose), PoseCheck::kValid);
 }
 
+// The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
+// there; obstacles in the box still block, and wheels outside the region still need support.
+TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {
+  VehicleBox wheels;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  const Pose2 pose{0.0, 0.0, 0.0};  // wheels at x = 0 and 1.9, y = +-0.6
+  // Non-traversable ground under the rear left wheel (an artefact where the footprint prior meets
+  // rough ground).
+  const auto artefact = [](double x, double y) { return std::hypot(x, y - 0.6) < 0.25; };
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  const auto add = [&](const Vec3& p, bool trav) {
+    points.push_back(p);
+    normals.push_back(Vec3::UnitZ());
+    traversable.push_back(trav ? 1 : 0);
+  };
+  for (int i = -40; i <= 60; ++i) {
+    for (int j = -30; j <= 30; ++j) add(Vec3(0.1 * i, 0.1 * j, 0.0), !artefact(0.1 * i, 0.1 * j));
+  }
+  VertexCloudMap::Config config;
+  const VertexCloudMap plain(TraversabilityCloud(points, normals, traversable), config);
+  EXPECT_EQ(CheckPose(plain, wheels, pose), PoseCheck::kGroundUnderFootprint);
+
+  // The vehicle stands at `pose`: its footprint grown by 0.3 m is known support.
+  config.known_support.pose = pose;
+  config.known_support.min_x_m = wheels.centre_ahead_m - 0.5 * wheels.length_m - 0.3;
+  config.known_support.max_x_m = wheels.centre_ahead_m + 0.5 * wheels.length_m + 0.3;
+  config.known_support.half_width_m = 0.5 * wheels.width_m + 0.3;
+  const VertexCloudMap supported(TraversabilityCloud(points, normals, traversable), config);
+  EXPECT_EQ(CheckPose(supported, wheels, pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(supported, wheels, Pose2{0.2, 0.0, 0.0}), PoseCheck::kValid);  // rear wheels still inside
+  // Far enough that the rear left wheel is outside the region but on the artefact again: no.
+  const Pose2 away{0.0, 0.0, kPi};  // turned round: the rear axle at the origin, front wheels at x = -1.9
+  config.known_support.pose = Pose2{-3.0, 0.0, 0.0};  // the region is elsewhere
+  const VertexCloudMap elsewhere(TraversabilityCloud(points, normals, traversable), config);
+  EXPECT_EQ(CheckPose(elsewhere, wheels, away), PoseCheck::kGroundUnderFootprint);
+  EXPECT_FALSE(config.known_support.Contains(0.0, 0.6));
+
+  // A post inside the box blocks even on known support.
+  add(Vec3(1.0, 0.3, 0.8), false);
+  config.known_support.pose = pose;
+  const VertexCloudMap post(TraversabilityCloud(points, normals, traversable), config);
+  EXPECT_EQ(CheckPose(post, wheels, pose), PoseCheck::kCollision);
+}
+
 TEST(VertexCloudMapTest, ProjectsOntoTheSlopeAlignedToItsNormalKeepingTheHeading) {
   const double slope = DegToRad(5.0);
   const PlanningScene scene = BuildScene(testing::SlopeScene(5.0));

@@ -24,6 +24,19 @@ class VertexCloudMap final : public PlanningMap {
     double ground_reference_z_m = 0.0;
     /// A pose farther than this from its nearest visible point is outside known free space.
     double max_projection_distance_m = 0.75;
+    /// Ground known to carry the vehicle without being seen: the vehicle's own footprint (the sensor
+    /// never sees the ground it stands on). A rectangle in the map's xy plane: `pose` (origin and
+    /// heading), x from `min_x_m` to `max_x_m` along the heading, y within +-`half_width_m`. With
+    /// FootprintCheck::kWheels, a wheel whose contact point lies in it is supported whatever the
+    /// nearest visible point is; the box test for obstacles is unchanged. Empty (the default) when
+    /// max_x_m <= min_x_m.
+    struct SupportRegion {
+      Pose2 pose;
+      double min_x_m = 0.0, max_x_m = 0.0, half_width_m = 0.0;
+      bool empty() const { return !(max_x_m > min_x_m) || !(half_width_m > 0.0); }
+      bool Contains(double x_m, double y_m) const;
+    };
+    SupportRegion known_support;
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

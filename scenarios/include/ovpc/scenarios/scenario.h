@@ -65,6 +65,12 @@ struct LoopConfig {
   /// seen on the way up, the plane of the pitched vehicle runs a few centimetres to decimetres off
   /// the measured slope; a flat grid there makes steep slivers. 0 disables.
   double footprint_prior_blend_m = 0.0;
+  /// The planner takes the ground under the vehicle's footprint, grown by this margin, as support
+  /// for the wheels (VertexCloudMap::Config::known_support): the vehicle stands on it, though the
+  /// sensor never sees it. Without it, a map artefact under the vehicle (a non-traversable point
+  /// where the footprint prior meets rough ground) can reject every start pose until the time limit.
+  /// Negative disables.
+  double known_support_margin_m = 0.3;
 };
 
 struct Scenario {
