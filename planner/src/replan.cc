@@ -1,5 +1,6 @@
 #include "ovpc/planner/replan.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -24,11 +25,22 @@ void ReplanConfig::Validate() const {
   if (!(goal_too_close_m >= 0.0) || !std::isfinite(goal_too_close_m)) {
     throw std::invalid_argument("ReplanConfig: goal_too_close_m must be >= 0, got " + std::to_string(goal_too_close_m));
   }
+  if (blocked_confirmations < 1) {
+    throw std::invalid_argument("ReplanConfig: blocked_confirmations must be >= 1, got " +
+                                std::to_string(blocked_confirmations));
+  }
+  if (!(blocked_near_m >= 0.0) || !std::isfinite(blocked_near_m)) {
+    throw std::invalid_argument("ReplanConfig: blocked_near_m must be >= 0, got " + std::to_string(blocked_near_m));
+  }
 }
 
 ReplanReason CheckReplan(const ReplanConfig& config, const ReplanInputs& inputs) {
   if (!inputs.has_path || !inputs.last_plan_s) return ReplanReason::kNoPath;
-  if (inputs.path_blocked) return ReplanReason::kPathBlocked;
+  if (inputs.path_blocked &&
+      (std::max(1, inputs.blocked_updates) >= config.blocked_confirmations ||
+       inputs.blocked_distance_m < config.blocked_near_m)) {
+    return ReplanReason::kPathBlocked;
+  }
   if (!inputs.goal_is_route_end && inputs.distance_to_goal_m < config.goal_too_close_m) {
     return ReplanReason::kGoalTooClose;
   }

@@ -195,6 +195,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   double truth_progress_m = 0.0, odom_progress_m = 0.0;  // the last goal a path was found to, frame O
   bool goal_is_route_end = false;
   std::optional<double> last_plan_s;
+  int blocked_updates = 0;  // map updates in a row that found the current path blocked
   controller::Command command;
   std::optional<TraversabilityCloud> last_map_cloud;  // for frames
   Eigen::Isometry3d last_T_W_L = Eigen::Isometry3d::Identity();
@@ -346,6 +347,12 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
         in.last_plan_s = last_plan_s;
         in.has_path = follower.has_value() && !follower->done();
         in.path_blocked = blocked;
+        blocked_updates = blocked ? blocked_updates + 1 : 0;
+        in.blocked_updates = blocked_updates;
+        if (blocked) {
+          const planner::PathPose at = path_O.Poses()[blocked_index];
+          in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - sim.T_O_B().translation().head<2>()).norm();
+        }
         in.distance_to_goal_m = goal_O ? (sim.T_O_B().translation().head<2>() - *goal_O).norm() : 0.0;
         in.goal_is_route_end = goal_is_route_end;
         const planner::ReplanReason reason = planner::CheckReplan(scenario.replan, in);
@@ -398,6 +405,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
               ++result.replans_found;
               path_O = Shifted(plan.path, L_to_O);
               follower.emplace(scenario.controller, path_O);
+              blocked_updates = 0;  // a new path
               goal_O = Eigen::Vector2d(goal.pose.x_m + L_to_O.x(), goal.pose.y_m + L_to_O.y());
               goal_is_route_end = goal.is_route_end;
               last_goal_O = goal;

@@ -286,6 +286,8 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("goal_offset_penalty", &s->local_goal.lateral_offset_penalty);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);
+    m.Get("blocked_confirmations", &s->replan.blocked_confirmations);
+    m.Get("blocked_near_m", &s->replan.blocked_near_m);
     m.Get("max_projection_distance_m", &s->map.max_projection_distance_m);
     m.Finish();
   }

@@ -49,12 +49,42 @@ TEST(ReplanTest, ReasonsComeInTheOrderOfTheEnum) {
   EXPECT_STREQ(ReplanReasonName(ReplanReason::kPeriodElapsed), "period elapsed");
 }
 
+TEST(ReplanTest, AFarBlockMustPersistANearOneActsAtOnce) {
+  ReplanConfig config;
+  config.blocked_confirmations = 2;
+  config.blocked_near_m = 3.0;
+  ReplanInputs far = Standing(10.1);
+  far.path_blocked = true;
+  far.blocked_distance_m = 7.0;
+  far.blocked_updates = 1;
+  EXPECT_EQ(CheckReplan(config, far), ReplanReason::kNone);  // a flicker, perhaps
+  far.blocked_updates = 2;
+  EXPECT_EQ(CheckReplan(config, far), ReplanReason::kPathBlocked);  // still there at the next update
+  ReplanInputs near = far;
+  near.blocked_updates = 1;
+  near.blocked_distance_m = 2.5;
+  EXPECT_EQ(CheckReplan(config, near), ReplanReason::kPathBlocked);
+  // The other triggers do not wait: an unconfirmed far block still lets the period elapse.
+  far.blocked_updates = 1;
+  far.now_s = 11.2;
+  EXPECT_EQ(CheckReplan(config, far), ReplanReason::kPeriodElapsed);
+  // The paper's rule (the default): the first update that finds the path blocked.
+  far.now_s = 10.1;
+  EXPECT_EQ(CheckReplan(ReplanConfig{}, far), ReplanReason::kPathBlocked);
+}
+
 TEST(ReplanTest, ConfigIsValidated) {
   ReplanConfig config;
   config.period_s = 0.0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
   config = ReplanConfig{};
   config.goal_too_close_m = -1.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = ReplanConfig{};
+  config.blocked_confirmations = 0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config = ReplanConfig{};
+  config.blocked_near_m = -0.5;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
   EXPECT_NO_THROW(ReplanConfig{}.Validate());
 }

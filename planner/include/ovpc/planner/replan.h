@@ -18,6 +18,12 @@ const char* ReplanReasonName(ReplanReason reason);
 struct ReplanConfig {
   double period_s = 1.0;
   double goal_too_close_m = 2.0;
+  /// A blocked path triggers a re-plan once it has been blocked after this many map updates in a
+  /// row (1: after every update that finds it blocked, the paper's rule), unless the first blocked
+  /// pose is nearer than `blocked_near_m`. Noise flickers single poses far along the path in and out
+  /// of collision; waiting for a second update filters that without delaying near blocks.
+  int blocked_confirmations = 1;
+  double blocked_near_m = 0.0;
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
@@ -27,6 +33,8 @@ struct ReplanInputs {
   std::optional<double> last_plan_s;   ///< simulated time of the last plan, nothing if none
   bool has_path = false;
   bool path_blocked = false;           ///< e.g. LocalPlanner::FirstInvalidPose found a pose
+  int blocked_updates = 0;             ///< map updates in a row, this one included, that found it blocked
+  double blocked_distance_m = 0.0;     ///< vehicle to the first blocked pose
   double distance_to_goal_m = 0.0;     ///< vehicle to the current local goal
   bool goal_is_route_end = false;      ///< the local goal is the end of the route
 };
