@@ -308,6 +308,9 @@ void LocalGoalConfig::Validate() const {
   if (!(cell_m >= 0.1) || !(cell_m <= 5.0)) {
     throw std::invalid_argument("LocalGoalConfig: cell_m must be in [0.1, 5], got " + std::to_string(cell_m));
   }
+  if (!(end_zone_m >= 0.0) || !std::isfinite(end_zone_m)) {
+    throw std::invalid_argument("LocalGoalConfig: end_zone_m must be >= 0, got " + std::to_string(end_zone_m));
+  }
   if (!(step_m > 0.0) || !std::isfinite(step_m)) {
     throw std::invalid_argument("LocalGoalConfig: step_m must be > 0, got " + std::to_string(step_m));
   }
@@ -354,7 +357,7 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
       const RoutePoint& r = route[i];
       const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
       const Eigen::Vector2d p = r.position + offset * side;
-      const bool is_end = r.is_end && offset == 0.0;
+      const bool is_end = offset == 0.0 && (r.is_end || route.back().progress_m - r.progress_m <= config.end_zone_m);
       const Pose2 pose{p.x(), p.y(), r.yaw_rad};
       if (qualifies(pose, is_end)) {
         // Near the route's end a point beside it is no nearer the end than the route point behind

@@ -8,6 +8,7 @@
 #include <string>
 
 #include <ompl/base/ProblemDefinition.h>
+#include <ompl/base/goals/GoalStates.h>
 #include <ompl/base/SpaceInformation.h>
 #include <ompl/base/StateSampler.h>
 #include <ompl/base/StateValidityChecker.h>
@@ -204,7 +205,8 @@ LocalPlanner::LocalPlanner(const Config& config) : config_(config) {
   SeedOmplOnce(config_.seed);
 }
 
-PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, const Pose2& goal_in) const {
+PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, const Pose2& goal_in,
+                              const std::vector<double>& other_goal_yaws) const {
   PlanResult result;
   const Pose2 start{start_in.x_m, start_in.y_m, NormalizeYaw(start_in.yaw_rad)};
   const Pose2 goal{goal_in.x_m, goal_in.y_m, NormalizeYaw(goal_in.yaw_rad)};
@@ -213,8 +215,14 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
     result.status = PlanStatus::kStartInvalid;
     return result;
   }
+  std::vector<Pose2> goals;
   result.goal_check = CheckPose(map, config_.vehicle, goal);
-  if (result.goal_check != PoseCheck::kValid) {
+  if (result.goal_check == PoseCheck::kValid) goals.push_back(goal);
+  for (double yaw : other_goal_yaws) {
+    const Pose2 other{goal.x_m, goal.y_m, NormalizeYaw(yaw)};
+    if (std::isfinite(other.yaw_rad) && CheckPose(map, config_.vehicle, other) == PoseCheck::kValid) goals.push_back(other);
+  }
+  if (goals.empty()) {
     result.status = PlanStatus::kGoalInvalid;
     return result;
   }
@@ -240,10 +248,22 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
   si->setup();
 
   auto pdef = std::make_shared<ob::ProblemDefinition>(si);
-  ob::ScopedState<ob::SE2StateSpace> start_state(space), goal_state(space);
+  ob::ScopedState<ob::SE2StateSpace> start_state(space);
   SetPose(start, start_state.get());
-  SetPose(goal, goal_state.get());
-  pdef->setStartAndGoalStates(start_state, goal_state);
+  if (goals.size() == 1) {
+    ob::ScopedState<ob::SE2StateSpace> goal_state(space);
+    SetPose(goals.front(), goal_state.get());
+    pdef->setStartAndGoalStates(start_state, goal_state);
+  } else {  // RRTConnect grows its goal tree from each of them in turn
+    pdef->addStartState(start_state);
+    auto goal_states = std::make_shared<ob::GoalStates>(si);
+    for (const Pose2& g : goals) {
+      ob::ScopedState<ob::SE2StateSpace> goal_state(space);
+      SetPose(g, goal_state.get());
+      goal_states->addState(goal_state);
+    }
+    pdef->setGoal(goal_states);
+  }
 
   auto planner = std::make_shared<SeededRrtConnect>(si, seed);
   if (config_.range_m > 0.0) planner->setRange(config_.range_m);

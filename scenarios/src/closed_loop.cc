@@ -388,7 +388,13 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
           bool found = false;
           for (const planner::LocalGoal& goal : goals) {
             ++result.plans;
-            const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal.pose);
+            // At the route's end only the position matters: heading straight there is a goal too.
+            std::vector<double> other_yaws;
+            if (goal.is_route_end && scenario.loop.route_end_any_heading) {
+              const double dx = goal.pose.x_m - vehicle_L.x_m, dy = goal.pose.y_m - vehicle_L.y_m;
+              if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
+            }
+            const planner::PlanResult plan = local_planner.Plan(vmap, vehicle_L, goal.pose, other_yaws);
             std::string outcome = planner::PlanStatusName(plan.status);
             if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
             if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);

@@ -278,6 +278,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
     m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
+    m.Get("goal_end_zone_m", &s->local_goal.end_zone_m);
     m.GetChoice("goal_mode",
                 {{"route", planner::LocalGoalConfig::Mode::kRoute}, {"reachable", planner::LocalGoalConfig::Mode::kReachable}},
                 &s->local_goal.mode);
@@ -310,6 +311,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
     m.Get("footprint_prior_blend_m", &s->loop.footprint_prior_blend_m);
     m.Get("known_support_margin_m", &s->loop.known_support_margin_m);
+    m.Get("route_end_any_heading", &s->loop.route_end_any_heading);
     m.Get("goal_candidates", &s->loop.goal_candidates);
     m.GetChoice("footprint_prior_mode", {{"replace", LoopConfig::PriorMode::kReplace}, {"fill", LoopConfig::PriorMode::kFill}},
                 &s->loop.footprint_prior_mode);
@@ -433,6 +435,8 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   s.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
   s.local_goal.keep_previous_within_m = 1.0;
   s.local_goal.max_gap_m = 8.0;
+  // The last metre of the route counts as its end (noise can make the last waypoint's pose fail).
+  s.local_goal.end_zone_m = 1.0;
   // Short tree extensions: with OMPL's default (a fifth of the map's extent, ~8 m) nearly every
   // extension among posts and shadows fails its motion check (docs/CLOSED_LOOP.md).
   s.planner.range_m = 1.0;

@@ -177,6 +177,43 @@ TEST(LocalGoalTest, AWideOffsetWinsWhenItGetsMuchFurther) {
   EXPECT_NEAR(near->pose.x_m, on_route->pose.x_m, 1e-12);
 }
 
+// 1.5 m before the route's end, with something in the box of the end pose itself (a bush 2.3 m past
+// the end): the last metre of the route counts as its end, so the goal is on the route just short of
+// it rather than beside the route at least min_distance_m away.
+TEST(LocalGoalTest, TheLastMetreOfTheRouteStandsInForItsEnd) {
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  for (int i = -40; i <= 120; ++i) {
+    for (int j = -80; j <= 80; ++j) {
+      points.emplace_back(0.1 * i, 0.1 * j, 0.0);
+      normals.push_back(Vec3::UnitZ());
+      traversable.push_back(1);
+    }
+  }
+  points.emplace_back(10.3, 0.0, 1.0);  // in the box of a pose at x = 8 (box to 10.4 m), not at 7.75
+  normals.push_back(-Vec3::UnitX());
+  traversable.push_back(0);
+  const VertexCloudMap map(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{});
+  const std::vector<Eigen::Vector2d> route = {{-3.0, 0.0}, {8.0, 0.0}};
+  const Pose2 vehicle{6.5, 0.0, 0.0};
+  ASSERT_EQ(CheckPose(map, VehicleBox{}, Pose2{8.0, 0.0, 0.0}), PoseCheck::kCollision);
+  LocalGoalConfig config;
+  config.min_distance_m = 2.5;
+  config.lateral_offsets_m = {1.5, 3.0};
+  const auto beside = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, vehicle, config);
+  ASSERT_TRUE(beside.has_value());
+  EXPECT_GE(std::abs(beside->pose.y_m), 1.5);  // without the zone: a point beside the route
+  config.end_zone_m = 1.0;
+  const auto end = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, vehicle, config);
+  ASSERT_TRUE(end.has_value());
+  EXPECT_NEAR(end->pose.y_m, 0.0, 1e-12);
+  EXPECT_NEAR(end->pose.x_m, 7.75, 1e-9);
+  EXPECT_TRUE(end->is_route_end);
+  config.end_zone_m = -1.0;
+  EXPECT_THROW(SelectLocalGoal(map, VehicleBox{}, route, kIdentity, vehicle, config), std::invalid_argument);
+}
+
 TEST(LocalGoalTest, RouteProgressInAWindowIsNotFooledByLapsSideBySide) {
   // Out along y = 0, back along y = 4, out again along y = 2: 0-20, 24-44, 46-66 m of arc length.
   const std::vector<Eigen::Vector2d> route = {{0, 0}, {20, 0}, {20, 4}, {0, 4}, {0, 2}, {20, 2}};

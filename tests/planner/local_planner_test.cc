@@ -269,6 +269,30 @@ TEST(LocalPlannerTest, SidewaysGoalNeedsCusps) {
   EXPECT_GE(result.path.NumCusps(), 1);
 }
 
+TEST(LocalPlannerTest, AGoalWithOtherHeadingsArrivesAtAnyOfThem) {
+  // The sideways goal again, with the heading straight from the start to it as a goal too: the
+  // path arrives with one of the two headings, and the direct one needs no cusp.
+  const LocalPlanner planner(LocalPlanner::Config{});
+  const Pose2 start{-3.0, 0.0, 0.0};
+  const Pose2 goal{-1.0, 1.5, 0.0};
+  const double direct = std::atan2(1.5, 2.0);
+  const PlanResult result = planner.Plan(*Flat().map, start, goal, {direct});
+  ASSERT_TRUE(result.found()) << PlanStatusName(result.status);
+  const Pose2 end = result.path.Poses().back().pose;
+  EXPECT_NEAR(end.x_m, goal.x_m, 1e-6);
+  EXPECT_NEAR(end.y_m, goal.y_m, 1e-6);
+  const bool either = std::abs(NormalizeYaw(end.yaw_rad - goal.yaw_rad)) < 1e-6 || std::abs(NormalizeYaw(end.yaw_rad - direct)) < 1e-6;
+  EXPECT_TRUE(either) << end.yaw_rad;
+  // A goal position whose given heading is blocked but another is not is still a goal.
+  const Pose2 blocked{-3.5, 0.5, 0.0};  // its box reaches the posts; turned round it does not
+  ASSERT_EQ(CheckPose(*Posts().map, LocalPlanner::Config{}.vehicle, blocked), PoseCheck::kCollision);
+  ASSERT_EQ(CheckPose(*Posts().map, LocalPlanner::Config{}.vehicle, Pose2{-3.5, 0.5, kPi}), PoseCheck::kValid);
+  const PlanResult only = planner.Plan(*Posts().map, Posts().spec.start, blocked);
+  EXPECT_EQ(only.status, PlanStatus::kGoalInvalid);
+  const PlanResult turned = planner.Plan(*Posts().map, Posts().spec.start, blocked, {kPi});
+  EXPECT_NE(turned.status, PlanStatus::kGoalInvalid);
+}
+
 TEST(LocalPlannerTest, PathBlockedAfterAMapUpdateIsDetected) {
   const LocalPlanner planner(LocalPlanner::Config{});
   const PlanResult result = planner.Plan(*Flat().map, kStart, kGoal);

@@ -30,6 +30,11 @@ struct LocalGoalConfig {
   double reach_offset_penalty = 0.0;
   /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
   double min_distance_m = 4.0;
+  /// kRoute: route points this close (along the route) to its last waypoint count as its end: they
+  /// qualify at any distance from the vehicle and are goals at the route's end. When noise makes the
+  /// last waypoint's own pose fail, the vehicle then heads for the route just short of it instead of
+  /// for a point beside the route at least min_distance_m away. 0: only the last waypoint.
+  double end_zone_m = 0.0;
   /// The route is examined at this spacing between its waypoints.
   double step_m = 0.25;
   /// Also require that the vehicle box fits at the goal (CheckPose), not only that the place is

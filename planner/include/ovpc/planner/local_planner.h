@@ -72,7 +72,10 @@ class LocalPlanner {
 
   /// Plans from `start` to `goal` (yaw normalised to [-pi, pi) first). Never throws on a bad
   /// problem: an invalid start or goal, or no path within the budget, is a status.
-  PlanResult Plan(const PlanningMap& map, const Pose2& start, const Pose2& goal) const;
+  /// `other_goal_yaws`: the goal position with these headings is a goal too (the route's end, where
+  /// only the position matters); the goal is invalid only if every heading is.
+  PlanResult Plan(const PlanningMap& map, const Pose2& start, const Pose2& goal,
+                  const std::vector<double>& other_goal_yaws = {}) const;
 
   /// Index (in Path::Poses() order) of the first pose at or after `from_index` that fails CheckPose on
   /// `map`, or nothing if the rest of the path is valid. Re-planning trigger (i): the current path

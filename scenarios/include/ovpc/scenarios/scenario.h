@@ -71,6 +71,10 @@ struct LoopConfig {
   /// where the footprint prior meets rough ground) can reject every start pose until the time limit.
   /// Negative disables.
   double known_support_margin_m = 0.3;
+  /// A plan to the route's end may also arrive heading straight from the vehicle to it, not only
+  /// along the route's last leg (the success criterion is a position; a few metres before the end, a
+  /// vehicle beside the route otherwise needs a manoeuvre to line up).
+  bool route_end_any_heading = true;
 };
 
 struct Scenario {
