@@ -1,6 +1,7 @@
 #include "ovpc/scenarios/closed_loop.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <unordered_map>
 
 #include "ovpc/core/cloud_io.h"
 #include "ovpc/sim/image.h"
@@ -161,6 +163,54 @@ std::string Fixed(double v, int digits) {
 
 }  // namespace
 
+void DropIsolatedPoints(double radius_m, double reach_m, Points* points_L) {
+  if (!(radius_m > 0.0) || points_L->empty()) return;
+  const double inv = 1.0 / radius_m;
+  const auto key = [inv](const Vec3& p) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x() * inv)),
+                                       static_cast<std::int64_t>(std::floor(p.y() * inv)),
+                                       static_cast<std::int64_t>(std::floor(p.z() * inv))};
+  };
+  struct KeyHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+      return static_cast<std::size_t>((static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL) ^
+                                      (static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL) ^
+                                      (static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL));
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::size_t>, KeyHash> cells;
+  cells.reserve(points_L->size());
+  for (std::size_t i = 0; i < points_L->size(); ++i) cells[key((*points_L)[i])].push_back(i);
+  const double r2 = radius_m * radius_m, reach2 = reach_m * reach_m;
+  std::vector<char> drop(points_L->size(), 0);
+  for (std::size_t i = 0; i < points_L->size(); ++i) {
+    const Vec3& p = (*points_L)[i];
+    if (p.squaredNorm() > reach2) continue;
+    const auto k = key(p);
+    bool neighbour = false;
+    for (int dx = -1; dx <= 1 && !neighbour; ++dx) {
+      for (int dy = -1; dy <= 1 && !neighbour; ++dy) {
+        for (int dz = -1; dz <= 1 && !neighbour; ++dz) {
+          const auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
+          if (it == cells.end()) continue;
+          for (std::size_t j : it->second) {
+            if (j != i && ((*points_L)[j] - p).squaredNorm() <= r2) {
+              neighbour = true;
+              break;
+            }
+          }
+        }
+      }
+    }
+    drop[i] = neighbour ? 0 : 1;
+  }
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < points_L->size(); ++i) {
+    if (!drop[i]) (*points_L)[out++] = (*points_L)[i];
+  }
+  points_L->resize(out);
+}
+
 RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunOptions& options) {
   scenario.Validate();
   const auto wall_start = Clock::now();
@@ -275,6 +325,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
       next_map += dt_map;
       t = Clock::now();
       PointCloudBuffer::LocalCloud cloud = buffer.Build();
+      DropIsolatedPoints(scenario.loop.isolated_point_radius_m, scenario.loop.isolated_point_reach_m, &cloud.points_L);
       if (scenario.loop.footprint_prior_margin_m > 0.0 && !cloud.points_L.empty()) {
         const planner::VehicleBox& box = planner_config.vehicle;
         AddFootprintPrior(cloud.T_O_L.inverse() * sim.T_O_B(), vehicle, scenario.loop.footprint_prior_margin_m,

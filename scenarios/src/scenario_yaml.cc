@@ -312,6 +312,8 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("footprint_prior_blend_m", &s->loop.footprint_prior_blend_m);
     m.Get("known_support_margin_m", &s->loop.known_support_margin_m);
     m.Get("route_end_any_heading", &s->loop.route_end_any_heading);
+    m.Get("isolated_point_radius_m", &s->loop.isolated_point_radius_m);
+    m.Get("isolated_point_reach_m", &s->loop.isolated_point_reach_m);
     m.Get("goal_candidates", &s->loop.goal_candidates);
     m.GetChoice("footprint_prior_mode", {{"replace", LoopConfig::PriorMode::kReplace}, {"fill", LoopConfig::PriorMode::kFill}},
                 &s->loop.footprint_prior_mode);
@@ -397,6 +399,12 @@ void Scenario::Validate() const {
   if (!(loop.footprint_prior_margin_m >= 0.0)) fail("params.loop.footprint_prior_margin_m must be >= 0");
   if (!(loop.footprint_prior_blend_m >= 0.0) || loop.footprint_prior_blend_m > 5.0) {
     fail("params.loop.footprint_prior_blend_m must be in [0, 5]");
+  }
+  if (!(loop.isolated_point_radius_m >= 0.0) || loop.isolated_point_radius_m > 2.0) {
+    fail("params.loop.isolated_point_radius_m must be in [0, 2]");
+  }
+  if (!(loop.isolated_point_reach_m >= 0.0) || !std::isfinite(loop.isolated_point_reach_m)) {
+    fail("params.loop.isolated_point_reach_m must be >= 0");
   }
   if (!std::isfinite(loop.known_support_margin_m) || loop.known_support_margin_m > 2.0) {
     fail("params.loop.known_support_margin_m must be at most 2 (negative disables)");

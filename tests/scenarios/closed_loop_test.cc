@@ -1,6 +1,8 @@
 // Real closed-loop runs: short ones, so that they fit the unit label.
 #include "ovpc/scenarios/closed_loop.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "ovpc/scenarios/scenario_yaml.h"
@@ -40,6 +42,32 @@ TEST(ClosedLoopTest, ReachesAGoalOnFlatGroundAndScoresIt) {
   EXPECT_EQ(r.collision_steps, 0u);
   ASSERT_FALSE(r.criteria.empty());
   EXPECT_EQ(r.criteria.front().name, "goal_reached");
+}
+
+TEST(ClosedLoopTest, IsolatedPointsNearTheSensorAreDroppedOthersKept) {
+  Points cloud;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) cloud.emplace_back(2.0 + 0.1 * i, -1.0 + 0.1 * j, -1.9);  // ground
+  }
+  for (int k = 0; k < 8; ++k) cloud.emplace_back(6.0, 1.0, -1.9 + 0.2 * k);  // a thin post, hit every 0.2 m
+  const Vec3 floating(3.0, 0.5, 0.2), far_floating(20.0, 3.0, 1.0), pair_a(4.0, -2.0, 0.5), pair_b(4.1, -2.05, 0.55);
+  cloud.insert(cloud.begin() + 5, floating);
+  cloud.push_back(far_floating);
+  cloud.push_back(pair_a);
+  cloud.push_back(pair_b);
+  Points out = cloud;
+  DropIsolatedPoints(0.25, 12.0, &out);
+  EXPECT_EQ(out.size(), cloud.size() - 1);  // only the lone point within 12 m
+  EXPECT_EQ(std::count(out.begin(), out.end(), floating), 0);
+  EXPECT_EQ(std::count(out.begin(), out.end(), far_floating), 1);  // beyond the reach
+  EXPECT_EQ(std::count(out.begin(), out.end(), pair_a), 1);        // two together are not alone
+  EXPECT_EQ(out[5], cloud[6]);                                      // order kept
+  Points off = cloud;
+  DropIsolatedPoints(0.0, 12.0, &off);
+  EXPECT_EQ(off, cloud);
+  Points empty;
+  DropIsolatedPoints(0.25, 12.0, &empty);
+  EXPECT_TRUE(empty.empty());
 }
 
 TEST(ClosedLoopTest, AnImpossibleDeadlineFails) {

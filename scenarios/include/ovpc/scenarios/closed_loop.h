@@ -93,6 +93,11 @@ struct RunOptions {
   bool progress = false;  ///< a progress line on stderr
 };
 
+/// Drops the points within `reach_m` of the viewpoint (the origin) that have no other point within
+/// `radius_m`; the others keep their order. A LiDAR outlier that survives the voxel filter (two in
+/// one voxel) floats alone in free space. `radius_m <= 0` does nothing.
+void DropIsolatedPoints(double radius_m, double reach_m, Points* points_L);
+
 /// Runs the scenario with `seed` feeding every random source (LiDAR noise and faults, odometry,
 /// planner). The same scenario and seed give a bit-identical trajectory on the same machine.
 /// @throws std::invalid_argument for an invalid scenario, std::runtime_error if the simulator fails.

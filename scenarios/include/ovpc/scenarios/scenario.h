@@ -75,6 +75,13 @@ struct LoopConfig {
   /// along the route's last leg (the success criterion is a position; a few metres before the end, a
   /// vehicle beside the route otherwise needs a manoeuvre to line up).
   bool route_end_any_heading = true;
+  /// When > 0, each map update first drops points within `isolated_point_reach_m` of the sensor
+  /// that have no other point within this radius: LiDAR outliers that survive the voxel filter (two
+  /// in one voxel) float alone in free space and block every path through them. It can also drop a
+  /// far, thinly hit post until the vehicle is nearer, so it is off unless a scenario's sensor has
+  /// outliers (the faults scenarios).
+  double isolated_point_radius_m = 0.0;
+  double isolated_point_reach_m = 12.0;
 };
 
 struct Scenario {
