@@ -254,6 +254,39 @@ Runner RegisterSuite(CLI::App& app) {
       }
       cases << "    </testcase>\n";
     }
+    // With several seeds: per scenario and settings, the pass rate, the failing seeds and the spread
+    // of the passing runs' times (a single run is one sample of a chaotic closed loop).
+    if (o->seeds > 1) {
+      std::printf("\n%-22s %-34s %7s %-18s %17s %9s\n", "scenario", "settings", "passed", "failed seeds",
+                  "passing sim [s]", "mean RTF");
+      std::vector<std::pair<std::string, std::vector<std::string>>> groups;
+      for (const Job& job : jobs) {
+        const std::pair<std::string, std::vector<std::string>> g{job.scenario, job.settings};
+        if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+      }
+      for (const auto& g : groups) {
+        int n = 0, ok = 0;
+        double lo = 0.0, hi = 0.0, rtf = 0.0;
+        std::string failed;
+        for (const Job& job : jobs) {
+          if (job.scenario != g.first || job.settings != g.second) continue;
+          ++n;
+          rtf += job.result.value("real_time_factor", 0.0);
+          if (job.exit_code != 0) {
+            failed += (failed.empty() ? "" : ",") + std::to_string(job.seed);
+            continue;
+          }
+          const double t = job.result.value("sim_time_s", 0.0);
+          lo = ok == 0 ? t : std::min(lo, t);
+          hi = ok == 0 ? t : std::max(hi, t);
+          ++ok;
+        }
+        char range[40] = "-";
+        if (ok > 0) std::snprintf(range, sizeof(range), "%.1f-%.1f", lo, hi);
+        std::printf("%-22s %-34s %3d/%-3d %-18s %17s %9.1f\n", g.first.c_str(), SettingsLabel(g.second).c_str(), ok, n,
+                    failed.empty() ? "-" : failed.c_str(), range, rtf / n);
+      }
+    }
     // Sweep table: pass rate and mean figures per combination of values.
     if (!o->sweeps.empty()) {
       std::printf("\nsweep: %-40s %6s %12s %12s\n", "settings", "passed", "mean sim [s]", "mean dist [m]");

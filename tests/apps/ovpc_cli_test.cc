@@ -186,6 +186,9 @@ criteria:
   EXPECT_NE(junit.find("<testsuite"), std::string::npos);
   EXPECT_NE(junit.find("tests=\"4\""), std::string::npos) << junit;
   EXPECT_NE(r.out.find("4 of 4 runs passed"), std::string::npos) << r.out;
+  // Several seeds: a line per scenario and settings with the pass rate.
+  EXPECT_NE(r.out.find("failed seeds"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  2/2 "), std::string::npos) << r.out;
   EXPECT_NE(summary.dump().find("\"seed\":5"), std::string::npos);
 
   const RunResult late = Run("suite " + Path("short.yaml") + " --sweep criteria.max_time_s=1 --out " + Path("late"));
