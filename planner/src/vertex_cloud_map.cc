@@ -19,12 +19,19 @@ constexpr int kMaxCells = 512;
 
 }  // namespace
 
-bool VertexCloudMap::Config::SupportRegion::Contains(double x_m, double y_m) const {
-  if (empty()) return false;
-  const double dx = x_m - pose.x_m, dy = y_m - pose.y_m;
-  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+namespace {
+
+bool InRegion(const VertexCloudMap::Config::SupportRegion& r, double c, double s, double x_m, double y_m) {
+  if (r.empty()) return false;
+  const double dx = x_m - r.pose.x_m, dy = y_m - r.pose.y_m;
   const double along = c * dx + s * dy, across = -s * dx + c * dy;
-  return along >= min_x_m && along <= max_x_m && std::abs(across) <= half_width_m;
+  return along >= r.min_x_m && along <= r.max_x_m && std::abs(across) <= r.half_width_m;
+}
+
+}  // namespace
+
+bool VertexCloudMap::Config::SupportRegion::Contains(double x_m, double y_m) const {
+  return InRegion(*this, std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), x_m, y_m);
 }
 
 void VertexCloudMap::Config::Validate() const {
@@ -45,6 +52,8 @@ void VertexCloudMap::Config::Validate() const {
 VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
     : cloud_(std::move(cloud)), config_(config) {
   config_.Validate();
+  support_cos_ = std::cos(config_.known_support.pose.yaw_rad);
+  support_sin_ = std::sin(config_.known_support.pose.yaw_rad);
   if (cloud_.empty()) return;  // empty bounds: every pose is outside the map
   bounds_.min_x_m = bounds_.min_y_m = std::numeric_limits<double>::infinity();
   bounds_.max_x_m = bounds_.max_y_m = -std::numeric_limits<double>::infinity();
@@ -152,7 +161,7 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
   for (double x : {0.0, vehicle.wheelbase_m}) {
     for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
       const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
-      if (config_.known_support.Contains(contact.x(), contact.y())) continue;  // where the vehicle stands
+      if (InRegion(config_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;  // where the vehicle stands
       const auto nearest = cloud_.Nearest(contact);
       if (!nearest || nearest->distance_m > vehicle.wheel_support_m || !cloud_.traversable()[nearest->index]) {
         return PoseCheck::kGroundUnderFootprint;

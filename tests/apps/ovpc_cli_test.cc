@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/test_clouds.h"
+#include "../support/test_scenarios.h"
 #include "ovpc/core/cloud_io.h"
 #include "ovpc/core/synthetic_scene.h"
 
@@ -163,15 +164,7 @@ TEST_F(CliTest, BundledSampleCloudMeshes) {
 // `ovpc suite` end to end on a short flat scenario: a sweep of two speeds, two seeds from
 // --first-seed, in two parallel processes; a run that cannot make its deadline fails the suite.
 TEST_F(CliTest, SuiteRunsTheSweepAndSeedsAndWritesJUnitAndSummary) {
-  WriteText("short.yaml", R"(name: short_flat
-time_limit_s: 8
-terrain: {kind: flat, size_m: [40, 20]}
-route: [[0, 0], [5, 0]]
-criteria:
-  goal: {x_m: 5.0, y_m: 0.0, radius_m: 1.0}
-  no_collision: true
-  max_time_s: 8
-)");
+  WriteText("short.yaml", testing::kShortFlatScenario);
   const RunResult r = Run("suite " + Path("short.yaml") + " --jobs 2 --seeds 2 --first-seed 4 --sweep params.controller.target_speed_mps=1.5,2.0 --out " +
                           Path("suite"));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;

@@ -5,20 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include "../support/test_scenarios.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
 namespace ovpc::scenarios {
 namespace {
 
-const char* kShort = R"(name: short_flat
-time_limit_s: 8
-terrain: {kind: flat, size_m: [40, 20]}
-route: [[0, 0], [6, 0]]
-criteria:
-  goal: {x_m: 6.0, y_m: 0.0, radius_m: 1.0}
-  no_collision: true
-  max_time_s: 8
-)";
+const char* const kShort = ovpc::testing::kShortFlatScenario;
 
 TEST(ClosedLoopTest, SameScenarioAndSeedGiveABitIdenticalTrajectory) {
   const Scenario s = ParseScenario(kShort, "short.yaml", {"time_limit_s=4"});

@@ -67,6 +67,8 @@ class VertexCloudMap final : public PlanningMap {
 
   TraversabilityCloud cloud_;
   Config config_;
+  // The known support region's heading, for the box test's wheel checks (made once per map).
+  double support_cos_ = 1.0, support_sin_ = 0.0;
   MapBounds bounds_;
   Grid grid_;
 };
