@@ -20,6 +20,8 @@
 #include <ompl/util/Console.h>
 #include <ompl/util/RandomNumbers.h>
 
+#include "bounded_nearest_neighbors.h"
+
 namespace ovpc::planner {
 namespace {
 
@@ -76,10 +78,20 @@ class SeededSe2Sampler : public ob::StateSampler {
   }
 };
 
+// RRTConnect with its own seed, and trees searched by BoundedNearestNeighbors instead of OMPL's
+// default metric tree: the same nearest states for a fraction of the Reeds-Shepp distances.
 class SeededRrtConnect : public og::RRTConnect {
  public:
-  SeededRrtConnect(const ob::SpaceInformationPtr& si, std::uint32_t seed) : og::RRTConnect(si) {
+  SeededRrtConnect(const ob::SpaceInformationPtr& si, std::uint32_t seed, double turning_radius_m)
+      : og::RRTConnect(si) {
     rng_.setLocalSeed(seed);
+    using Tree = internal::BoundedNearestNeighbors<Motion*>;
+    const auto pose_of = [](Motion* const& motion) {
+      const auto* s = motion->state->as<Se2State>();
+      return Tree::Pose{s->getX(), s->getY(), s->getYaw()};
+    };
+    tStart_ = std::make_shared<Tree>(pose_of, turning_radius_m);  // setup() keeps trees already set
+    tGoal_ = std::make_shared<Tree>(pose_of, turning_radius_m);
   }
 };
 
@@ -265,7 +277,7 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
     pdef->setGoal(goal_states);
   }
 
-  auto planner = std::make_shared<SeededRrtConnect>(si, seed);
+  auto planner = std::make_shared<SeededRrtConnect>(si, seed, config_.turning_radius_m);
   if (config_.range_m > 0.0) planner->setRange(config_.range_m);
   planner->setProblemDefinition(pdef);
   planner->setup();

@@ -81,12 +81,20 @@ VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
   for (const Vec3& p : cloud_.points()) ++g.cell_begin[cell_of(p) + 1];
   for (std::size_t c = 0; c < num_cells; ++c) g.cell_begin[c + 1] += g.cell_begin[c];
   std::vector<std::uint32_t> next(g.cell_begin.begin(), g.cell_begin.end() - 1);
+  std::vector<std::uint32_t> order(cloud_.size());
+  for (std::size_t i = 0; i < cloud_.size(); ++i) order[next[cell_of(cloud_.points()[i])]++] = static_cast<std::uint32_t>(i);
+  // Each cell's points by height (ties by index), so that the box test can skip the points of a cell
+  // that lie below or above the box's height band.
+  const auto lower = [this](std::uint32_t a, std::uint32_t b) {
+    const double za = cloud_.points()[a].z(), zb = cloud_.points()[b].z();
+    return za < zb || (za == zb && a < b);
+  };
+  for (std::size_t c = 0; c < num_cells; ++c) std::sort(order.begin() + g.cell_begin[c], order.begin() + g.cell_begin[c + 1], lower);
   g.points.resize(cloud_.size());
   g.traversable.resize(cloud_.size());
-  for (std::size_t i = 0; i < cloud_.size(); ++i) {
-    const std::uint32_t slot = next[cell_of(cloud_.points()[i])]++;
-    g.points[slot] = cloud_.points()[i];
-    g.traversable[slot] = cloud_.traversable()[i];
+  for (std::size_t slot = 0; slot < order.size(); ++slot) {
+    g.points[slot] = cloud_.points()[order[slot]];
+    g.traversable[slot] = cloud_.traversable()[order[slot]];
   }
 }
 
@@ -139,22 +147,46 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
 
   const Eigen::Matrix3d R_B_L = ground.T_L_B.linear().transpose();
   const Vec3 t_L = ground.T_L_B.translation();
+  // Height band: a point's height in B is n . (p - t) with n the box's z axis in the map frame. Over a
+  // cell, n_x (x - t_x) + n_y (y - t_y) lies in [h_lo, h_hi], so a point of the cell can be in the
+  // band [band_bottom, top] only if its map-frame height lies in [z_lo, z_hi] below; the cell's points
+  // are sorted by height, and only that run is tested. kAllPoints needs the whole slab down to
+  // `bottom`; kWheels only what could collide.
+  const Vec3 n = R_B_L.row(2).transpose();
+  const double band_bottom = all_points ? bottom : vehicle.ground_clearance_m;
+  const bool prune = n.z() > 1e-3;
+  constexpr double kSlackM = 1e-6;  // rounding of the cell bounds and of the transform
+  bool ground_blocked = false;
   for (int iy = iy0; iy <= iy1; ++iy) {
+    const double y0 = g.origin_y_m + iy * g.cell_m - kSlackM - t_L.y(), y1 = y0 + g.cell_m + 2.0 * kSlackM;
+    const double hy_lo = std::min(n.y() * y0, n.y() * y1), hy_hi = std::max(n.y() * y0, n.y() * y1);
     for (int ix = ix0; ix <= ix1; ++ix) {
       const std::size_t cell =
           static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
-      for (std::uint32_t i = g.cell_begin[cell]; i < g.cell_begin[cell + 1]; ++i) {
-        const Vec3 p_B = R_B_L * (g.points[i] - t_L);
+      const Vec3* begin = g.points.data() + g.cell_begin[cell];
+      const Vec3* end = g.points.data() + g.cell_begin[cell + 1];
+      if (begin == end) continue;
+      if (prune) {
+        const double x0 = g.origin_x_m + ix * g.cell_m - kSlackM - t_L.x(), x1 = x0 + g.cell_m + 2.0 * kSlackM;
+        const double h_lo = std::min(n.x() * x0, n.x() * x1) + hy_lo, h_hi = std::max(n.x() * x0, n.x() * x1) + hy_hi;
+        const double z_lo = t_L.z() + (band_bottom - h_hi) / n.z() - kSlackM;
+        const double z_hi = t_L.z() + (top - h_lo) / n.z() + kSlackM;
+        begin = std::lower_bound(begin, end, z_lo, [](const Vec3& p, double z) { return p.z() < z; });
+        end = std::upper_bound(begin, end, z_hi, [](double z, const Vec3& p) { return z < p.z(); });
+      }
+      for (const Vec3* it = begin; it != end; ++it) {
+        const Vec3 p_B = R_B_L * (*it - t_L);
         if (p_B.x() < min_x || p_B.x() > max_x || std::abs(p_B.y()) > half_width || p_B.z() < bottom ||
             p_B.z() > top) {
           continue;
         }
         if (p_B.z() > vehicle.ground_clearance_m) return PoseCheck::kCollision;  // an obstacle, a roof, a wall in the box
-        if (!all_points) continue;
-        if (!g.traversable[i]) return PoseCheck::kGroundUnderFootprint;  // non-traversable ground under the footprint
+        if (all_points && !g.traversable[static_cast<std::size_t>(it - g.points.data())]) ground_blocked = true;
       }
     }
   }
+  // A collision anywhere in the box is reported before non-traversable ground under the footprint.
+  if (ground_blocked) return PoseCheck::kGroundUnderFootprint;
   if (all_points) return PoseCheck::kValid;
   // Each wheel stands on known traversable ground: its contact point on the pose's ground plane is
   // close to a visible point, and that point is traversable.

@@ -15,37 +15,55 @@ namespace {
 using testing::BuildScene;
 using testing::PlanningScene;
 
-// The rule written out with core's oriented-box query: the fast grid test must agree with it.
-bool ReferenceBoxFree(const TraversabilityCloud& cloud, const GroundPose& ground, const VehicleBox& v) {
+// The box rule written out with core's oriented-box query: the fast grid test must agree with it. A
+// point above the ground clearance collides; else, with kAllPoints, a non-traversable point under the
+// footprint blocks.
+PoseCheck ReferenceBoxCheck(const TraversabilityCloud& cloud, const GroundPose& ground, const VehicleBox& v) {
   const double top = v.height_m + v.margin_m, bottom = -v.footprint_depth_m;
   Eigen::Isometry3d T_B_C = Eigen::Isometry3d::Identity();
   T_B_C.translation() = Vec3(v.centre_ahead_m, 0.0, 0.5 * (top + bottom));
   const Vec3 half(0.5 * v.length_m + v.margin_m, 0.5 * v.width_m + v.margin_m, 0.5 * (top - bottom));
+  bool ground_blocked = false;
   for (int i : cloud.InBox(ground.T_L_B * T_B_C, half)) {
     const double height = (ground.T_L_B.inverse() * cloud.points()[i]).z();
-    if (height > v.ground_clearance_m || !cloud.traversable()[i]) return false;
+    if (height > v.ground_clearance_m) return PoseCheck::kCollision;
+    if (!cloud.traversable()[i]) ground_blocked = true;
   }
-  return true;
+  return ground_blocked && v.footprint_check == VehicleBox::FootprintCheck::kAllPoints ? PoseCheck::kGroundUnderFootprint
+                                                                                      : PoseCheck::kValid;
 }
 
 TEST(VertexCloudMapTest, BoxTestAgreesWithTheOrientedBoxQuery) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> x(-10.0, 10.0), y(-8.0, 8.0), yaw(-kPi, kPi);
-  const VehicleBox vehicle;
-  int free = 0, blocked = 0;
+  VehicleBox all_points;
+  VehicleBox wheels;  // the scenarios' rule, on wheel-contact planes (tilted on the slope)
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  wheels.placement = VehicleBox::Placement::kWheelContacts;
+  int free = 0, collision = 0, ground_blocked = 0, wheel_checks = 0;
   for (const auto& spec : {testing::PostsScene(), testing::CarportScene(), testing::SlopeScene(35.0)}) {
     const PlanningScene scene = BuildScene(spec);
     for (int k = 0; k < 600; ++k) {
-      const auto ground = scene.map->Project(Pose2{x(rng), y(rng), yaw(rng)});
+      const Pose2 pose{x(rng), y(rng), yaw(rng)};
+      const auto ground = scene.map->Project(pose);
       if (!ground) continue;
-      const bool expected = ReferenceBoxFree(scene.map->cloud(), *ground, vehicle);
-      ASSERT_EQ(scene.map->IsBoxFree(*ground, vehicle), expected)
-          << "at " << ground->T_L_B.translation().transpose();
-      (expected ? free : blocked) += 1;
+      const PoseCheck expected = ReferenceBoxCheck(scene.map->cloud(), *ground, all_points);
+      ASSERT_EQ(scene.map->CheckBox(*ground, all_points), expected) << "at " << ground->T_L_B.translation().transpose();
+      ++(expected == PoseCheck::kValid ? free : expected == PoseCheck::kCollision ? collision : ground_blocked);
+
+      // kWheels: the box part decides collisions alone (the wheel support test comes after it).
+      const auto placed = PlaceOnWheels(*scene.map, wheels, pose, *ground);
+      if (!placed) continue;
+      ++wheel_checks;
+      ASSERT_EQ(scene.map->CheckBox(*placed, wheels) == PoseCheck::kCollision,
+                ReferenceBoxCheck(scene.map->cloud(), *placed, wheels) == PoseCheck::kCollision)
+          << "wheels at " << placed->T_L_B.translation().transpose();
     }
   }
-  EXPECT_GT(free, 300);  // both answers were exercised
-  EXPECT_GT(blocked, 300);
+  EXPECT_GT(free, 300);  // every answer was exercised
+  EXPECT_GT(collision, 100);
+  EXPECT_GT(ground_blocked, 100);
+  EXPECT_GT(wheel_checks, 600);
 }
 
 TEST(VertexCloudMapTest, ARoofBelowTheMastCollidesAHigherOneDoesNot) {

@@ -87,7 +87,7 @@ class PlanningMap {
   virtual std::optional<GroundPose> Project(const Pose2& pose) const = 0;
   /// kValid if the vehicle box at `ground` holds no map point above the ground clearance
   /// (kCollision otherwise) and no non-traversable point lies under its footprint
-  /// (kGroundUnderFootprint otherwise).
+  /// (kGroundUnderFootprint otherwise). When both hold, the collision is reported.
   virtual PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const = 0;
   bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const {
     return CheckBox(ground, vehicle) == PoseCheck::kValid;

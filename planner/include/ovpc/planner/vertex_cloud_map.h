@@ -55,8 +55,10 @@ class VertexCloudMap final : public PlanningMap {
 
  private:
   // The box test runs for every state the planner checks, so the points are also kept in a planar
-  // grid of cells (counting-sorted copies, contiguous per cell); the test visits the cells under
-  // the box and stops at the first blocking point. Same answer as TraversabilityCloud::InBox.
+  // grid of cells (counting-sorted copies, contiguous per cell, sorted by height within a cell); the
+  // test visits the cells under the box, only the run of each cell's points that can lie in the
+  // box's height band, and stops at the first colliding point. Same answer as
+  // TraversabilityCloud::InBox.
   struct Grid {
     double origin_x_m = 0.0, origin_y_m = 0.0, cell_m = 1.0;
     int nx = 0, ny = 0;

@@ -1,0 +1,138 @@
+#include "bounded_nearest_neighbors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <ompl/base/spaces/ReedsSheppStateSpace.h>
+
+namespace ovpc::planner::internal {
+namespace {
+
+namespace ob = ompl::base;
+using Se2State = ob::SE2StateSpace::StateType;
+using Tree = BoundedNearestNeighbors<ob::State*>;
+constexpr double kRadius = 3.7;
+
+Tree::Pose PoseOf(ob::State* const& state) {
+  const auto* s = state->as<Se2State>();
+  return Tree::Pose{s->getX(), s->getY(), s->getYaw()};
+}
+
+// Random states in a 40 m square, as the planner's trees hold them, and a tree over them whose
+// distance function counts its calls.
+class BoundedNearestNeighborsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    space_ = std::make_shared<ob::ReedsSheppStateSpace>(kRadius);
+    ob::RealVectorBounds bounds(2);
+    bounds.setLow(-20.0);
+    bounds.setHigh(20.0);
+    space_->setBounds(bounds);
+    tree_ = std::make_unique<Tree>(PoseOf, kRadius);
+    tree_->setDistanceFunction([this](ob::State* const& a, ob::State* const& b) {
+      ++distances_;
+      return space_->distance(a, b);
+    });
+  }
+  void TearDown() override {
+    for (ob::State* s : states_) space_->freeState(s);
+  }
+  ob::State* Random() {
+    std::uniform_real_distribution<double> xy(-20.0, 20.0), yaw(-kPi, kPi);
+    ob::State* s = space_->allocState();
+    s->as<Se2State>()->setXY(xy(rng_), xy(rng_));
+    s->as<Se2State>()->setYaw(yaw(rng_));
+    states_.push_back(s);
+    return s;
+  }
+  // Every element by exact distance to `query`, nearest first (the reference answer).
+  std::vector<std::pair<double, ob::State*>> Exhaustive(ob::State* query, const std::vector<ob::State*>& elements) const {
+    std::vector<std::pair<double, ob::State*>> all;
+    for (ob::State* e : elements) all.emplace_back(space_->distance(query, e), e);
+    std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return all;
+  }
+
+  std::shared_ptr<ob::ReedsSheppStateSpace> space_;
+  std::unique_ptr<Tree> tree_;
+  std::vector<ob::State*> states_;
+  std::mt19937 rng_{11};
+  long distances_ = 0;
+};
+
+TEST_F(BoundedNearestNeighborsTest, TheBoundNeverExceedsTheReedsSheppLength) {
+  for (int k = 0; k < 5000; ++k) {
+    ob::State* a = Random();
+    ob::State* b = Random();
+    if (k % 3 == 0) {  // near pairs too, where the heading term dominates
+      b->as<Se2State>()->setXY(a->as<Se2State>()->getX() + 0.3, a->as<Se2State>()->getY() - 0.2);
+    }
+    ASSERT_LE(Tree::LowerBound(PoseOf(a), PoseOf(b), kRadius), space_->distance(a, b)) << "pair " << k;
+  }
+}
+
+TEST_F(BoundedNearestNeighborsTest, AnswersAsAnExhaustiveSearchWithFewerDistances) {
+  std::vector<ob::State*> elements;
+  for (int i = 0; i < 600; ++i) {
+    elements.push_back(Random());
+    tree_->add(elements.back());
+  }
+  ASSERT_EQ(tree_->size(), elements.size());
+  long exhaustive = 0;
+  distances_ = 0;
+  for (int q = 0; q < 200; ++q) {
+    ob::State* query = Random();
+    const auto expected = Exhaustive(query, elements);
+    exhaustive += static_cast<long>(elements.size());
+    EXPECT_EQ(tree_->nearest(query), expected.front().second) << "query " << q;
+
+    std::vector<ob::State*> k_nearest;
+    tree_->nearestK(query, 7, k_nearest);
+    ASSERT_EQ(k_nearest.size(), 7u);
+    for (std::size_t i = 0; i < k_nearest.size(); ++i) EXPECT_EQ(k_nearest[i], expected[i].second) << "query " << q;
+
+    const double radius = expected[12].first;  // the 13 nearest, sorted
+    std::vector<ob::State*> within;
+    tree_->nearestR(query, radius, within);
+    ASSERT_EQ(within.size(), 13u) << "query " << q;
+    for (std::size_t i = 0; i < within.size(); ++i) EXPECT_EQ(within[i], expected[i].second) << "query " << q;
+  }
+  // The point of the structure: most elements are ruled out by their bound.
+  EXPECT_LT(distances_, exhaustive / 3) << distances_ << " distances against " << exhaustive;
+}
+
+TEST_F(BoundedNearestNeighborsTest, RemoveListAndClear) {
+  std::vector<ob::State*> elements;
+  for (int i = 0; i < 20; ++i) {
+    elements.push_back(Random());
+    tree_->add(elements.back());
+  }
+  std::vector<ob::State*> listed;
+  tree_->list(listed);
+  EXPECT_EQ(listed, elements);  // in the order added
+
+  ob::State* query = elements[5];
+  EXPECT_EQ(tree_->nearest(query), elements[5]);  // an element is its own nearest
+  EXPECT_TRUE(tree_->remove(elements[5]));
+  EXPECT_FALSE(tree_->remove(elements[5]));
+  EXPECT_EQ(tree_->size(), 19u);
+  EXPECT_NE(tree_->nearest(query), elements[5]);
+
+  std::vector<ob::State*> k_nearest;
+  tree_->nearestK(query, 100, k_nearest);
+  EXPECT_EQ(k_nearest.size(), 19u);  // k larger than the tree: all of it
+
+  tree_->clear();
+  EXPECT_EQ(tree_->size(), 0u);
+  EXPECT_THROW(tree_->nearest(query), ompl::Exception);
+  tree_->nearestK(query, 3, k_nearest);
+  EXPECT_TRUE(k_nearest.empty());
+}
+
+}  // namespace
+}  // namespace ovpc::planner::internal
