@@ -70,19 +70,17 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
   T nearest(const T& data) const override {
     if (elements_.empty()) throw ompl::Exception("BoundedNearestNeighbors: no elements");
     const Pose q = pose_of_(data);
-    bounds_.resize(elements_.size());
-    std::size_t seed = 0;
-    for (std::size_t i = 0; i < elements_.size(); ++i) {
-      bounds_[i] = LowerBound(q, elements_[i].pose, turning_radius_m_);
-      if (bounds_[i] < bounds_[seed]) seed = i;
-    }
-    // Start from the element with the smallest bound: usually close to the nearest, so that the
-    // scan then computes few distances.
-    std::size_t best = seed;
-    double best_d = this->distFun_(data, elements_[seed].data);
-    for (std::size_t i = 0; i < elements_.size(); ++i) {
-      if (i == seed || bounds_[i] > best_d) continue;
-      const double d = this->distFun_(data, elements_[i].data);
+    // Candidates by increasing bound; the scan stops at the first bound above the best distance.
+    order_.resize(elements_.size());
+    for (std::size_t i = 0; i < elements_.size(); ++i) order_[i] = {LowerBound(q, elements_[i].pose, turning_radius_m_), i};
+    std::sort(order_.begin(), order_.end());
+    // Element first, query second: RRTConnect then asks the state space for the distance and the path
+    // from the nearest element to the query, which the planner's space keeps from this scan.
+    std::size_t best = order_[0].second;
+    double best_d = this->distFun_(elements_[best].data, data);
+    for (std::size_t k = 1; k < order_.size() && order_[k].first <= best_d; ++k) {
+      const std::size_t i = order_[k].second;
+      const double d = this->distFun_(elements_[i].data, data);
       if (d < best_d || (d == best_d && i < best)) best = i, best_d = d;
     }
     return elements_[best].data;
@@ -131,7 +129,7 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
   PoseOf pose_of_;
   double turning_radius_m_;
   std::vector<Element> elements_;
-  mutable std::vector<double> bounds_;  // scratch of nearest(); the planner is single-threaded per tree
+  mutable std::vector<std::pair<double, std::size_t>> order_;  // scratch of nearest(); one thread per tree
 };
 
 }  // namespace ovpc::planner::internal

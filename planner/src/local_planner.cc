@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -39,6 +40,60 @@ void SetPose(const Pose2& pose, ob::State* state) {
   s->setXY(pose.x_m, pose.y_m);
   s->setYaw(NormalizeYaw(pose.yaw_rad));
 }
+
+// Reeds-Shepp space that keeps the last paths it solved. One tree extension asks for the same pair
+// several times (the nearest-neighbour scan, the distance to the sample, the interpolation towards
+// it, the motion check's segment count and states), and each would solve every path family again.
+// Same numbers as the plain space: a kept path is the one reedsShepp() gave for exactly these states.
+class CachingReedsSheppSpace final : public ob::ReedsSheppStateSpace {
+ public:
+  explicit CachingReedsSheppSpace(double turning_radius_m) : ob::ReedsSheppStateSpace(turning_radius_m) {}
+
+  double distance(const ob::State* a, const ob::State* b) const override { return rho_ * Solve(a, b).length(); }
+
+  void interpolate(const ob::State* from, const ob::State* to, double t, bool& first_time, ReedsSheppPath& path,
+                   ob::State* state) const override {
+    if (first_time) {  // as the base class: the end states exactly at t = 0 and 1
+      if (t >= 1.0) {
+        if (to != state) copyState(state, to);
+        return;
+      }
+      if (t <= 0.0) {
+        if (from != state) copyState(state, from);
+        return;
+      }
+      path = Solve(from, to);
+      first_time = false;
+    }
+    ob::ReedsSheppStateSpace::interpolate(from, path, t, state);
+  }
+  using ob::ReedsSheppStateSpace::interpolate;
+
+ private:
+  struct Entry {
+    std::array<double, 6> key{};
+    ReedsSheppPath path;
+  };
+  static constexpr std::size_t kEntries = 8;
+
+  const ReedsSheppPath& Solve(const ob::State* a, const ob::State* b) const {
+    const auto* sa = a->as<Se2State>();
+    const auto* sb = b->as<Se2State>();
+    const std::array<double, 6> key{sa->getX(), sa->getY(), sa->getYaw(), sb->getX(), sb->getY(), sb->getYaw()};
+    for (std::size_t i = 0; i < used_; ++i) {
+      if (std::memcmp(entries_[i].key.data(), key.data(), sizeof(key)) == 0) return entries_[i].path;  // bit for bit
+    }
+    Entry& e = entries_[next_];
+    next_ = (next_ + 1) % kEntries;
+    used_ = std::min(used_ + 1, kEntries);
+    e.key = key;
+    e.path = reedsShepp(a, b);
+    return e.path;
+  }
+
+  mutable std::array<Entry, kEntries> entries_{};  // a ring, overwritten oldest first
+  mutable std::size_t next_ = 0, used_ = 0;
+};
 
 // Uniform SE(2) sampler with its own seed, so that the sampled sequence does not depend on how many
 // OMPL random generators the process created before.
@@ -241,7 +296,7 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
 
   // Reeds-Shepp space bounded by the local map's extent.
   const MapBounds extent = map.Bounds();
-  auto space = std::make_shared<ob::ReedsSheppStateSpace>(config_.turning_radius_m);
+  auto space = std::make_shared<CachingReedsSheppSpace>(config_.turning_radius_m);
   ob::RealVectorBounds bounds(2);
   bounds.setLow(0, extent.min_x_m);
   bounds.setHigh(0, extent.max_x_m);
