@@ -20,14 +20,18 @@ namespace ovpc::planner::internal {
 /// Nearest-neighbour structure for RRTConnect's trees in a Reeds-Shepp space, where a distance
 /// (a Reeds-Shepp path length) is expensive: it solves every path family, with its trigonometry.
 ///
-/// Every element keeps a planar pose. For two poses, the Euclidean distance of the positions and the
-/// turning radius times the heading change are both lower bounds of the Reeds-Shepp length: the
-/// path is at least as long as the straight line, and it turns at most 1/radius per metre. A query
-/// computes the exact distance only for elements whose bound is below the best distance so far, so
-/// it returns the same nearest element as an exhaustive search (the first-added one among exactly
-/// equal distances). Adding an element costs no distance at all. For the trees of a local plan (at
-/// most a few thousand states) this takes a fraction of the distances a metric tree (OMPL's GNAT
-/// default) needs, and it does not depend on a metric tree's balance.
+/// Every element keeps a planar pose. Three lower bounds of the Reeds-Shepp length L between two
+/// poses hold, and a query uses the largest: the straight line between the positions; the turning
+/// radius r times the heading change (the path turns at most 1/r per metre); and the sideways offset
+/// d of either pose in the frame of the other. Along the path the heading has turned at most s/r
+/// after s metres, so the sideways offset grows at most like sin(min(s/r, pi/2)); integrated,
+/// d <= r (1 - cos(L/r)) while L <= r pi/2, and d <= r + (L - r pi/2) beyond, which bounds L from
+/// below. Reversing the path gives the same from the other pose. A query computes the exact distance
+/// only for elements whose bound is below the best distance so far, so it returns the same nearest
+/// element as an exhaustive search (the first-added one among exactly equal distances). Adding an
+/// element costs no distance at all. For the trees of a local plan (at most a few thousand states)
+/// this takes a fraction of the distances a metric tree (OMPL's GNAT default) needs, and it does not
+/// depend on a metric tree's balance.
 ///
 /// The lower bound must hold for the distance function given by setDistanceFunction: Reeds-Shepp
 /// length with `turning_radius_m`, or anything longer.
@@ -45,15 +49,12 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
   /// A lower bound of the Reeds-Shepp length from `a` to `b`, slightly reduced so that rounding in
   /// either computation cannot turn it into an overestimate.
   static double LowerBound(const Pose& a, const Pose& b, double turning_radius_m) {
-    const double euclid = std::hypot(b.x - a.x, b.y - a.y);
-    double turn = std::fmod(std::abs(b.yaw - a.yaw), 2.0 * kPi);
-    if (turn > kPi) turn = 2.0 * kPi - turn;
-    return std::max(euclid, turning_radius_m * turn) * (1.0 - 1e-9) - 1e-9;
+    return LowerBound(Key(a), Key(b), turning_radius_m);
   }
 
   bool reportsSortedResults() const override { return true; }
   void clear() override { elements_.clear(); }
-  void add(const T& data) override { elements_.push_back(Element{data, pose_of_(data)}); }
+  void add(const T& data) override { elements_.push_back(Element{data, Key(pose_of_(data))}); }
   bool remove(const T& data) override {
     const auto it = std::find_if(elements_.begin(), elements_.end(), [&](const Element& e) { return e.data == data; });
     if (it == elements_.end()) return false;
@@ -69,7 +70,7 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
 
   T nearest(const T& data) const override {
     if (elements_.empty()) throw ompl::Exception("BoundedNearestNeighbors: no elements");
-    const Pose q = pose_of_(data);
+    const Key q(pose_of_(data));
     // Candidates by increasing bound; the scan stops at the first bound above the best distance.
     order_.resize(elements_.size());
     for (std::size_t i = 0; i < elements_.size(); ++i) order_[i] = {LowerBound(q, elements_[i].pose, turning_radius_m_), i};
@@ -89,7 +90,7 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
   void nearestK(const T& data, std::size_t k, std::vector<T>& nbh) const override {
     nbh.clear();
     if (k == 0 || elements_.empty()) return;
-    const Pose q = pose_of_(data);
+    const Key q(pose_of_(data));
     // (distance, index) of the k best so far, as a max-heap.
     std::vector<std::pair<double, std::size_t>> heap;
     for (std::size_t i = 0; i < elements_.size(); ++i) {
@@ -110,7 +111,7 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
 
   void nearestR(const T& data, double radius, std::vector<T>& nbh) const override {
     nbh.clear();
-    const Pose q = pose_of_(data);
+    const Key q(pose_of_(data));
     std::vector<std::pair<double, std::size_t>> found;
     for (std::size_t i = 0; i < elements_.size(); ++i) {
       if (LowerBound(q, elements_[i].pose, turning_radius_m_) > radius) continue;
@@ -122,10 +123,26 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
   }
 
  private:
+  // A pose with its heading's cosine and sine.
+  struct Key {
+    Key() = default;
+    explicit Key(const Pose& p) : x(p.x), y(p.y), yaw(p.yaw), c(std::cos(p.yaw)), s(std::sin(p.yaw)) {}
+    double x = 0.0, y = 0.0, yaw = 0.0, c = 1.0, s = 0.0;
+  };
   struct Element {
     T data;
-    Pose pose;
+    Key pose;
   };
+
+  static double LowerBound(const Key& a, const Key& b, double r) {
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    const double euclid = std::sqrt(dx * dx + dy * dy);
+    double turn = std::fmod(std::abs(b.yaw - a.yaw), 2.0 * kPi);
+    if (turn > kPi) turn = 2.0 * kPi - turn;
+    const double side = std::max(std::abs(a.c * dy - a.s * dx), std::abs(b.c * dy - b.s * dx));
+    const double sideways = side <= r ? r * std::acos(1.0 - side / r) : r * 0.5 * kPi + (side - r);
+    return std::max({euclid, r * turn, sideways}) * (1.0 - 1e-9) - 1e-9;
+  }
   PoseOf pose_of_;
   double turning_radius_m_;
   std::vector<Element> elements_;

@@ -69,8 +69,15 @@ TEST_F(BoundedNearestNeighborsTest, TheBoundNeverExceedsTheReedsSheppLength) {
   for (int k = 0; k < 5000; ++k) {
     ob::State* a = Random();
     ob::State* b = Random();
+    const auto* sa = a->as<Se2State>();
     if (k % 3 == 0) {  // near pairs too, where the heading term dominates
-      b->as<Se2State>()->setXY(a->as<Se2State>()->getX() + 0.3, a->as<Se2State>()->getY() - 0.2);
+      b->as<Se2State>()->setXY(sa->getX() + 0.3, sa->getY() - 0.2);
+    } else if (k % 3 == 1) {  // beside each other, up to two turning radii apart, about parallel
+      const double side = std::uniform_real_distribution<double>(-2.0 * kRadius, 2.0 * kRadius)(rng_);
+      const double ahead = std::uniform_real_distribution<double>(-0.5, 0.5)(rng_);
+      const double c = std::cos(sa->getYaw()), s = std::sin(sa->getYaw());
+      b->as<Se2State>()->setXY(sa->getX() + c * ahead - s * side, sa->getY() + s * ahead + c * side);
+      b->as<Se2State>()->setYaw(sa->getYaw() + std::uniform_real_distribution<double>(-0.3, 0.3)(rng_));
     }
     ASSERT_LE(Tree::LowerBound(PoseOf(a), PoseOf(b), kRadius), space_->distance(a, b)) << "pair " << k;
   }
