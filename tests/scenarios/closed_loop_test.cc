@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "../support/test_scenarios.h"
@@ -61,6 +63,31 @@ TEST(ClosedLoopTest, IsolatedPointsNearTheSensorAreDroppedOthersKept) {
   Points empty;
   DropIsolatedPoints(0.25, 12.0, &empty);
   EXPECT_TRUE(empty.empty());
+}
+
+TEST(ClosedLoopTest, IsolatedPointFilterAgreesWithABruteForceSearch) {
+  // Clusters and scattered points, some beyond the reach, some on cell edges (multiples of 0.25).
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-15.0, 15.0), near(-0.3, 0.3);
+  Points cloud;
+  for (int i = 0; i < 1500; ++i) cloud.emplace_back(u(rng), u(rng), 0.2 * u(rng));
+  for (int i = 0; i < 1500; ++i) {
+    const Vec3& c = cloud[static_cast<std::size_t>(i) % 300];
+    cloud.push_back(c + Vec3(near(rng), near(rng), near(rng)));
+  }
+  for (int i = 0; i < 40; ++i) cloud.emplace_back(0.25 * i, -0.25 * i, 0.25 * (i % 3));
+  Points expected;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    bool neighbour = cloud[i].squaredNorm() > 12.0 * 12.0;
+    for (std::size_t j = 0; j < cloud.size() && !neighbour; ++j) {
+      neighbour = j != i && (cloud[j] - cloud[i]).squaredNorm() <= 0.25 * 0.25;
+    }
+    if (neighbour) expected.push_back(cloud[i]);
+  }
+  Points out = cloud;
+  DropIsolatedPoints(0.25, 12.0, &out);
+  EXPECT_EQ(out, expected);
+  EXPECT_LT(out.size(), cloud.size());  // something was dropped
 }
 
 TEST(ClosedLoopTest, AnImpossibleDeadlineFails) {
