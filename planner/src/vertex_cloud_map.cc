@@ -150,11 +150,12 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
   // Height band: a point's height in B is n . (p - t) with n the box's z axis in the map frame. Over a
   // cell, n_x (x - t_x) + n_y (y - t_y) lies in [h_lo, h_hi], so a point of the cell can be in the
   // band [band_bottom, top] only if its map-frame height lies in [z_lo, z_hi] below; the cell's points
-  // are sorted by height, and only that run is tested. kAllPoints needs the whole slab down to
-  // `bottom`; kWheels only what could collide.
+  // are sorted by height, and only that run is tested. kWheels needs only what could collide, above
+  // the ground clearance, which skips the ground; kAllPoints needs the whole slab down to `bottom`,
+  // where the two binary searches per cell would cost more than they skip.
   const Vec3 n = R_B_L.row(2).transpose();
-  const double band_bottom = all_points ? bottom : vehicle.ground_clearance_m;
-  const bool prune = n.z() > 1e-3;
+  const double band_bottom = vehicle.ground_clearance_m;
+  const bool prune = !all_points && n.z() > 1e-3;
   constexpr double kSlackM = 1e-6;  // rounding of the cell bounds and of the transform
   bool ground_blocked = false;
   for (int iy = iy0; iy <= iy1; ++iy) {
