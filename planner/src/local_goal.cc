@@ -66,9 +66,13 @@ std::pair<std::size_t, std::size_t> AheadRange(const PlanningMap& map, const std
     }
   }
   std::size_t end = route.size();
+  if (std::isfinite(config.max_ahead_m)) {
+    const double limit = (vehicle_progress_m ? *vehicle_progress_m : route[closest].progress_m) + config.max_ahead_m;
+    while (end > closest + 1 && route[end - 1].progress_m > limit) --end;
+  }
   if (std::isfinite(config.max_gap_m)) {
     double gap_start = -1.0;
-    for (std::size_t i = closest; i < route.size(); ++i) {
+    for (std::size_t i = closest; i < end; ++i) {
       if (map.IsKnownFree(route[i].position.x(), route[i].position.y())) {
         gap_start = -1.0;
       } else if (gap_start < 0.0) {
@@ -297,6 +301,7 @@ void LocalGoalConfig::Validate() const {
                                 std::to_string(lateral_offset_penalty));
   }
   if (!(max_gap_m > 0.0)) throw std::invalid_argument("LocalGoalConfig: max_gap_m must be > 0");
+  if (!(max_ahead_m > 0.0)) throw std::invalid_argument("LocalGoalConfig: max_ahead_m must be > 0");
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
     throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));

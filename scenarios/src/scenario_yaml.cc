@@ -278,6 +278,7 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
     m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
+    m.Get("goal_max_ahead_m", &s->local_goal.max_ahead_m);
     m.Get("goal_end_zone_m", &s->local_goal.end_zone_m);
     m.GetChoice("goal_mode",
                 {{"route", planner::LocalGoalConfig::Mode::kRoute}, {"reachable", planner::LocalGoalConfig::Mode::kReachable}},

@@ -245,6 +245,32 @@ TEST(LocalGoalTest, CandidatesEndWhereTheRouteLeavesTheMapForLongerThanTheGap) {
   EXPECT_NEAR(home.front().pose.y_m, 3.0, 1e-12);
 }
 
+TEST(LocalGoalTest, CandidatesEndAtMostMaxAheadAlongTheRoute) {
+  // A hairpin inside the map: out along y = 0, back along y = 3. No gap stops the candidates, so
+  // without a limit the goal lies on the way back and skips the turn.
+  const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {6.0, 0.0}, {6.0, 3.0}, {-7.0, 3.0}};
+  LocalGoalConfig config;
+  config.max_gap_m = 8.0;
+  const auto no_limit = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(no_limit.has_value());
+  EXPECT_GT(no_limit->route_progress_m, 16.0);  // past the turn, on the way back
+  config.max_ahead_m = 8.0;
+  const auto limited = SelectLocalGoals(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config,
+                                        std::nullopt, 5, 0.0);
+  ASSERT_FALSE(limited.empty());
+  for (const LocalGoal& g : limited) EXPECT_LE(g.route_progress_m, 8.0 + 1e-9);
+  EXPECT_NEAR(limited.front().route_progress_m, 8.0, 0.3);
+  // The limit moves with the vehicle's progress.
+  const auto later = SelectLocalGoals(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{1.0, 0.0, 0.0}, config,
+                                      std::nullopt, 1, 8.0);
+  ASSERT_EQ(later.size(), 1u);
+  EXPECT_GT(later.front().route_progress_m, 8.0);
+  EXPECT_LE(later.front().route_progress_m, 16.0 + 1e-9);
+  LocalGoalConfig bad;
+  bad.max_ahead_m = 0.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 // A flat known square, x and y in [-10, 10], with a wall of non-traversable ground across it at
 // x in [4, 5] from y = -10 up to y = 4: the way round is the gap between y = 4 and y = 10.
 class WallMap : public PlanningMap {

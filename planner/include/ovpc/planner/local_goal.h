@@ -58,6 +58,11 @@ struct LocalGoalConfig {
   /// side by side, a loop), and a goal there would cut the route short. Infinite: the whole route
   /// ahead (the paper's rule).
   double max_gap_m = std::numeric_limits<double>::infinity();
+  /// Route points are candidates only up to this much route length ahead of the vehicle's progress.
+  /// Where the route comes back near itself inside known free space (a spiral's last laps), a goal
+  /// further on would skip the part in between; max_gap_m does not stop that when no gap lies
+  /// between. Infinite: the whole route ahead (the paper's rule).
+  double max_ahead_m = std::numeric_limits<double>::infinity();
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
