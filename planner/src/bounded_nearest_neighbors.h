@@ -139,8 +139,13 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
     const double euclid = std::sqrt(dx * dx + dy * dy);
     double turn = std::fmod(std::abs(b.yaw - a.yaw), 2.0 * kPi);
     if (turn > kPi) turn = 2.0 * kPi - turn;
-    const double side = std::max(std::abs(a.c * dy - a.s * dx), std::abs(b.c * dy - b.s * dx));
-    const double sideways = side <= r ? r * std::acos(1.0 - side / r) : r * 0.5 * kPi + (side - r);
+    // The offset less a slack for the rounding of the coordinates: near zero the bound is steep
+    // (an error e in the offset moves it by about sqrt(2 r e)). r acos(1 - d/r) is written as
+    // 2 r asin(sqrt(d / 2r)), which is accurate for small d.
+    const double slack = 1e-9 * (1.0 + std::abs(a.x) + std::abs(a.y));
+    const double side =
+        std::max(0.0, std::max(std::abs(a.c * dy - a.s * dx), std::abs(b.c * dy - b.s * dx)) - slack);
+    const double sideways = side <= r ? 2.0 * r * std::asin(std::sqrt(side / (2.0 * r))) : r * 0.5 * kPi + (side - r);
     return std::max({euclid, r * turn, sideways}) * (1.0 - 1e-9) - 1e-9;
   }
   PoseOf pose_of_;

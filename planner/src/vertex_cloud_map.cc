@@ -52,6 +52,11 @@ void VertexCloudMap::Config::Validate() const {
 VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
     : cloud_(std::move(cloud)), config_(config) {
   config_.Validate();
+  for (std::size_t i = 0; i < cloud_.size(); ++i) {
+    if (!cloud_.points()[i].allFinite() || !cloud_.normals()[i].allFinite()) {
+      throw std::invalid_argument("VertexCloudMap: point " + std::to_string(i) + " of the cloud is not finite");
+    }
+  }
   support_cos_ = std::cos(config_.known_support.pose.yaw_rad);
   support_sin_ = std::sin(config_.known_support.pose.yaw_rad);
   if (cloud_.empty()) return;  // empty bounds: every pose is outside the map

@@ -83,6 +83,29 @@ TEST_F(BoundedNearestNeighborsTest, TheBoundNeverExceedsTheReedsSheppLength) {
   }
 }
 
+TEST_F(BoundedNearestNeighborsTest, TheBoundHoldsForStatesMicrometresApart) {
+  // A short arc between nearly equal states far from the origin, where the sideways bound is steepest
+  // and the coordinates' rounding largest (a review found an overestimate here).
+  const auto state = [this](double x, double y, double yaw) {
+    ob::State* s = space_->allocState();
+    s->as<Se2State>()->setXY(x, y);
+    s->as<Se2State>()->setYaw(yaw);
+    states_.push_back(s);
+    return s;
+  };
+  ob::State* q = state(46.218902775620094, 18.285285406921169, 2.2705289279141816);
+  ob::State* e1 = state(46.218901962160558, 18.285286373218312, 2.270529269295233);
+  EXPECT_LE(Tree::LowerBound(PoseOf(e1), PoseOf(q), kRadius), space_->distance(e1, q));
+  std::uniform_real_distribution<double> tiny(-2e-6, 2e-6), xy(-60.0, 60.0), yaw(-kPi, kPi);
+  for (int k = 0; k < 20000; ++k) {
+    ob::State* a = state(xy(rng_), xy(rng_), yaw(rng_));
+    const auto* sa = a->as<Se2State>();
+    ob::State* b = state(sa->getX() + tiny(rng_), sa->getY() + tiny(rng_), sa->getYaw() + tiny(rng_));
+    ASSERT_LE(Tree::LowerBound(PoseOf(b), PoseOf(a), kRadius), space_->distance(b, a)) << "pair " << k;
+    ASSERT_LE(Tree::LowerBound(PoseOf(a), PoseOf(b), kRadius), space_->distance(a, b)) << "pair " << k;
+  }
+}
+
 TEST_F(BoundedNearestNeighborsTest, AnswersAsAnExhaustiveSearchWithFewerDistances) {
   std::vector<ob::State*> elements;
   for (int i = 0; i < 600; ++i) {

@@ -310,6 +310,14 @@ TEST(VertexCloudMapTest, InvalidConfigThrowsNamingTheField) {
   VehicleBox vehicle;
   vehicle.ground_clearance_m = 3.0;
   EXPECT_THROW(vehicle.Validate(), std::invalid_argument);
+  // A cloud with a non-finite point: a clear error, not a grid built on it.
+  const TraversabilityCloud bad({Vec3(0.0, 0.0, 0.0), Vec3(1.0, std::nan(""), 0.0)}, {Vec3::UnitZ(), Vec3::UnitZ()}, {1, 1});
+  try {
+    VertexCloudMap map(bad, VertexCloudMap::Config{});
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("point 1"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

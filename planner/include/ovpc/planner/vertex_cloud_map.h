@@ -41,7 +41,8 @@ class VertexCloudMap final : public PlanningMap {
     void Validate() const;
   };
 
-  /// @throws std::invalid_argument for an invalid config.
+  /// @throws std::invalid_argument for an invalid config, or a cloud with a non-finite point or
+  /// normal (naming its index; OvpcMapper never makes one).
   VertexCloudMap(TraversabilityCloud cloud, const Config& config);
 
   std::optional<GroundPose> Project(const Pose2& pose) const override;
