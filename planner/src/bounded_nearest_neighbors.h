@@ -14,6 +14,7 @@
 #include <ompl/util/Exception.h>
 
 #include "ovpc/core/types.h"
+#include "ovpc/planner/path.h"
 
 namespace ovpc::planner::internal {
 
@@ -38,17 +39,15 @@ namespace ovpc::planner::internal {
 template <typename T>
 class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
  public:
-  struct Pose {
-    double x = 0.0, y = 0.0, yaw = 0.0;
-  };
-  using PoseOf = std::function<Pose(const T&)>;
+  /// The planar pose of an element (the planner's Pose2; any yaw, not only normalised ones).
+  using PoseOf = std::function<Pose2(const T&)>;
 
   BoundedNearestNeighbors(PoseOf pose_of, double turning_radius_m)
       : pose_of_(std::move(pose_of)), turning_radius_m_(turning_radius_m) {}
 
   /// A lower bound of the Reeds-Shepp length from `a` to `b`, slightly reduced so that rounding in
   /// either computation cannot turn it into an overestimate.
-  static double LowerBound(const Pose& a, const Pose& b, double turning_radius_m) {
+  static double LowerBound(const Pose2& a, const Pose2& b, double turning_radius_m) {
     return LowerBound(Key(a), Key(b), turning_radius_m);
   }
 
@@ -126,7 +125,8 @@ class BoundedNearestNeighbors final : public ompl::NearestNeighbors<T> {
   // A pose with its heading's cosine and sine.
   struct Key {
     Key() = default;
-    explicit Key(const Pose& p) : x(p.x), y(p.y), yaw(p.yaw), c(std::cos(p.yaw)), s(std::sin(p.yaw)) {}
+    explicit Key(const Pose2& p)
+        : x(p.x_m), y(p.y_m), yaw(p.yaw_rad), c(std::cos(p.yaw_rad)), s(std::sin(p.yaw_rad)) {}
     double x = 0.0, y = 0.0, yaw = 0.0, c = 1.0, s = 0.0;
   };
   struct Element {

@@ -143,7 +143,7 @@ class SeededRrtConnect : public og::RRTConnect {
     using Tree = internal::BoundedNearestNeighbors<Motion*>;
     const auto pose_of = [](Motion* const& motion) {
       const auto* s = motion->state->as<Se2State>();
-      return Tree::Pose{s->getX(), s->getY(), s->getYaw()};
+      return Pose2{s->getX(), s->getY(), s->getYaw()};
     };
     tStart_ = std::make_shared<Tree>(pose_of, turning_radius_m);  // setup() keeps trees already set
     tGoal_ = std::make_shared<Tree>(pose_of, turning_radius_m);

@@ -154,12 +154,11 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
   const Vec3 t_L = ground.T_L_B.translation();
   // Height band: a point's height in B is n . (p - t) with n the box's z axis in the map frame. Over a
   // cell, n_x (x - t_x) + n_y (y - t_y) lies in [h_lo, h_hi], so a point of the cell can be in the
-  // band [band_bottom, top] only if its map-frame height lies in [z_lo, z_hi] below; the cell's points
+  // band [ground clearance, top] only if its map-frame height lies in [z_lo, z_hi] below; the cell's points
   // are sorted by height, and only that run is tested. kWheels needs only what could collide, above
   // the ground clearance, which skips the ground; kAllPoints needs the whole slab down to `bottom`,
   // where the two binary searches per cell would cost more than they skip.
   const Vec3 n = R_B_L.row(2).transpose();
-  const double band_bottom = vehicle.ground_clearance_m;
   const bool prune = !all_points && n.z() > 1e-3;
   constexpr double kSlackM = 1e-6;  // rounding of the cell bounds and of the transform
   bool ground_blocked = false;
@@ -175,7 +174,7 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
       if (prune) {
         const double x0 = g.origin_x_m + ix * g.cell_m - kSlackM - t_L.x(), x1 = x0 + g.cell_m + 2.0 * kSlackM;
         const double h_lo = std::min(n.x() * x0, n.x() * x1) + hy_lo, h_hi = std::max(n.x() * x0, n.x() * x1) + hy_hi;
-        const double z_lo = t_L.z() + (band_bottom - h_hi) / n.z() - kSlackM;
+        const double z_lo = t_L.z() + (vehicle.ground_clearance_m - h_hi) / n.z() - kSlackM;
         const double z_hi = t_L.z() + (top - h_lo) / n.z() + kSlackM;
         begin = std::lower_bound(begin, end, z_lo, [](const Vec3& p, double z) { return p.z() < z; });
         end = std::upper_bound(begin, end, z_hi, [](double z, const Vec3& p) { return z < p.z(); });

@@ -18,9 +18,9 @@ using Se2State = ob::SE2StateSpace::StateType;
 using Tree = BoundedNearestNeighbors<ob::State*>;
 constexpr double kRadius = 3.7;
 
-Tree::Pose PoseOf(ob::State* const& state) {
+Pose2 PoseOf(ob::State* const& state) {
   const auto* s = state->as<Se2State>();
-  return Tree::Pose{s->getX(), s->getY(), s->getYaw()};
+  return Pose2{s->getX(), s->getY(), s->getYaw()};
 }
 
 // Random states in a 40 m square, as the planner's trees hold them, and a tree over them whose
