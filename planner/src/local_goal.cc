@@ -123,7 +123,7 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
       // Known traversable from the nearest visible point; known non-traversable only from a point
       // in the cell: a single steep vertex among sparse ground claims no cells around it.
       if (g->traversable) {
-        state[index(ix, iy)] = kFree;
+        if ((g->surface_point.head<2>() - c).norm() <= config.reach_support_m) state[index(ix, iy)] = kFree;
       } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell) {
         state[index(ix, iy)] = kBlocked;
       }
@@ -309,6 +309,9 @@ void LocalGoalConfig::Validate() const {
   if (!(reach_offset_penalty >= 0.0) || !std::isfinite(reach_offset_penalty)) {
     throw std::invalid_argument("LocalGoalConfig: reach_offset_penalty must be >= 0, got " +
                                 std::to_string(reach_offset_penalty));
+  }
+  if (!(reach_support_m > 0.0)) {
+    throw std::invalid_argument("LocalGoalConfig: reach_support_m must be > 0, got " + std::to_string(reach_support_m));
   }
   if (!(cell_m >= 0.1) || !(cell_m <= 5.0)) {
     throw std::invalid_argument("LocalGoalConfig: cell_m must be in [0.1, 5], got " + std::to_string(cell_m));

@@ -285,6 +285,7 @@ void ReadParams(MapReader r, Scenario* s) {
                 &s->local_goal.mode);
     m.Get("goal_cell_m", &s->local_goal.cell_m);
     m.Get("goal_reach_offset_penalty", &s->local_goal.reach_offset_penalty);
+    m.Get("goal_reach_support_m", &s->local_goal.reach_support_m);
     m.Get("goal_offset_penalty", &s->local_goal.lateral_offset_penalty);
     m.Get("replan_period_s", &s->replan.period_s);
     m.Get("goal_too_close_m", &s->replan.goal_too_close_m);

@@ -368,5 +368,43 @@ TEST(LocalGoalTest, ReachableGoalOnOpenGroundFollowsTheRoute) {
   EXPECT_NEAR(end->pose.y_m, 2.0, 1e-9);
 }
 
+// Dense ground (0.2 m apart) up to x = 2, then sparse ground (1.5 m apart) to x = 20, as far from
+// the sensor: the planner stands a wheel only near a visible point, so a goal out on the sparse
+// ground is one few paths lead to.
+TEST(LocalGoalTest, ReachableGoalStaysOnGroundDenseEnoughToStandOn) {
+  Points points;
+  std::vector<Vec3> normals;
+  for (int i = -50; i <= 10; ++i) {
+    for (int j = -30; j <= 30; ++j) points.emplace_back(0.2 * i, 0.2 * j, 0.0);
+  }
+  for (double x = 3.5; x <= 20.0; x += 1.5) {
+    for (double y = -6.0; y <= 6.0; y += 1.5) points.emplace_back(x, y, 0.0);
+  }
+  normals.assign(points.size(), Vec3::UnitZ());
+  VertexCloudMap::Config map_config;
+  map_config.max_projection_distance_m = 1.2;  // every place on the sparse ground projects
+  const VertexCloudMap map(TraversabilityCloud(points, normals, std::vector<std::uint8_t>(points.size(), 1)),
+                           map_config);
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {40.0, 0.0}};
+  const Pose2 start{-6.0, 0.0, 0.0};
+  LocalGoalConfig config;
+  config.mode = LocalGoalConfig::Mode::kReachable;
+  // Any distance to the nearest point: the goal goes out over the sparse ground.
+  const auto anywhere = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(anywhere.has_value());
+  EXPECT_GT(anywhere->pose.x_m, 10.0);
+  // Within 0.5 m of a point: the sparse ground is islands the reach does not cross, so the goal is
+  // at the far end of the dense ground.
+  config.reach_support_m = 0.5;
+  const auto supported = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(supported.has_value());
+  EXPECT_GT(supported->pose.x_m, 0.0);
+  EXPECT_LT(supported->pose.x_m, 2.5);
+  EXPECT_LT(std::abs(supported->pose.y_m), 1.5);
+  EXPECT_EQ(CheckPose(map, VehicleBox{}, supported->pose), PoseCheck::kValid);
+  config.reach_support_m = 0.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ovpc::planner

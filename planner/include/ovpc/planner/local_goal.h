@@ -28,6 +28,12 @@ struct LocalGoalConfig {
   /// kReachable: candidates are ranked by cost to go plus this many metres per metre away from the
   /// route ahead, so that of two ways round an obstacle about as long the one nearer the route wins.
   double reach_offset_penalty = 0.0;
+  /// kReachable: a cell is known traversable only if the visible point its centre projects onto lies
+  /// within this distance of it (in the plane). The planner stands a wheel only within the vehicle's
+  /// wheel_support_m of a visible point, so with that value the reach stays on ground the planner
+  /// can plan over; far from the sensor the ground is sparse, and a goal reached over it is often
+  /// one no path leads to. Infinite: any distance (the nearest point decides).
+  double reach_support_m = std::numeric_limits<double>::infinity();
   /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
   double min_distance_m = 4.0;
   /// kRoute: route points this close (along the route) to its last waypoint count as its end: they
