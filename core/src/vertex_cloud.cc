@@ -62,6 +62,19 @@ std::optional<TraversabilityCloud::Neighbor> TraversabilityCloud::Nearest(const 
   return Neighbor{static_cast<int>(index), std::sqrt(dist2)};
 }
 
+void TraversabilityCloud::KNearest(const Vec3& query, std::size_t k, std::vector<Neighbor>* out) const {
+  out->clear();
+  if (!data_->tree || !query.allFinite() || k == 0) return;
+  thread_local std::vector<std::uint32_t> indices;
+  thread_local std::vector<double> dist2;
+  indices.resize(k);
+  dist2.resize(k);
+  nanoflann::KNNResultSet<double, std::uint32_t> result(k);
+  result.init(indices.data(), dist2.data());
+  data_->tree->findNeighbors(result, query.data(), nanoflann::SearchParams());
+  for (std::size_t i = 0; i < result.size(); ++i) out->push_back({static_cast<int>(indices[i]), std::sqrt(dist2[i])});
+}
+
 std::vector<TraversabilityCloud::Neighbor> TraversabilityCloud::WithinRadius(const Vec3& query,
                                                                              double radius_m) const {
   std::vector<Neighbor> out;

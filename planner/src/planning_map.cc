@@ -96,10 +96,11 @@ PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pos
       !map.Bounds().Contains(pose.x_m, pose.y_m)) {
     return PoseCheck::kOutsideMap;
   }
-  const std::optional<GroundPose> ground = map.Project(pose);
+  const bool on_wheels = vehicle.placement == VehicleBox::Placement::kWheelContacts;
+  const std::optional<GroundPose> ground = on_wheels ? map.Project(pose) : map.ProjectForBox(pose);
   if (!ground) return PoseCheck::kOutsideMap;
   if (!ground->traversable) return PoseCheck::kNotTraversable;
-  if (vehicle.placement == VehicleBox::Placement::kWheelContacts) {
+  if (on_wheels) {
     const std::optional<GroundPose> placed = PlaceOnWheels(map, vehicle, pose, *ground);
     if (!placed) return PoseCheck::kGroundUnderFootprint;  // a wheel over unknown ground
     if (placed->T_L_B.linear()(2, 2) < std::cos(vehicle.max_tilt_deg * kPi / 180.0)) return PoseCheck::kNotTraversable;

@@ -1,5 +1,7 @@
 #include "ovpc/planner/vertex_cloud_map.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -37,6 +39,13 @@ bool VertexCloudMap::Config::SupportRegion::Contains(double x_m, double y_m) con
 void VertexCloudMap::Config::Validate() const {
   if (!std::isfinite(ground_reference_z_m)) {
     throw std::invalid_argument("VertexCloudMap::Config: ground_reference_z_m must be finite");
+  }
+  if (normal_neighbours < 1 || normal_neighbours > 64) {
+    throw std::invalid_argument("VertexCloudMap::Config: normal_neighbours must be in [1, 64], got " +
+                                std::to_string(normal_neighbours));
+  }
+  if (!(normal_radius_m >= 0.0) || !std::isfinite(normal_radius_m)) {
+    throw std::invalid_argument("VertexCloudMap::Config: normal_radius_m must be >= 0, got " + std::to_string(normal_radius_m));
   }
   if (!(max_projection_distance_m > 0.0) || !std::isfinite(max_projection_distance_m)) {
     throw std::invalid_argument("VertexCloudMap::Config: max_projection_distance_m must be > 0, got " +
@@ -103,7 +112,7 @@ VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
   }
 }
 
-std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
+std::optional<int> VertexCloudMap::NearestIndex(const Pose2& pose) const {
   // Nearest visible point to the pose at the reference height, then again at the height found: on a
   // slope the first answer lies uphill or downhill of the pose, the second is close below it.
   const auto first = cloud_.Nearest(Vec3(pose.x_m, pose.y_m, config_.ground_reference_z_m));
@@ -111,15 +120,62 @@ std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
   const Vec3 query(pose.x_m, pose.y_m, cloud_.points()[first->index].z());
   const auto nearest = cloud_.Nearest(query);
   if (!nearest || nearest->distance_m > config_.max_projection_distance_m) return std::nullopt;
+  return nearest->index;
+}
 
-  const Vec3& p = cloud_.points()[nearest->index];
-  Vec3 normal = cloud_.normals()[nearest->index];
-  bool traversable = cloud_.traversable()[nearest->index] != 0;
+GroundPose VertexCloudMap::OnPlane(const Pose2& pose, int index, Vec3 normal) const {
+  bool traversable = cloud_.traversable()[static_cast<std::size_t>(index)] != 0;
   if (!(normal.z() >= kMinNormalZ)) {
     normal = Vec3::UnitZ();
     traversable = false;
   }
-  return PoseOnPlane(pose, p, normal, traversable);
+  return PoseOnPlane(pose, cloud_.points()[static_cast<std::size_t>(index)], normal, traversable);
+}
+
+std::optional<GroundPose> VertexCloudMap::Project(const Pose2& pose) const {
+  const std::optional<int> index = NearestIndex(pose);
+  if (!index) return std::nullopt;
+  return OnPlane(pose, *index, cloud_.normals()[static_cast<std::size_t>(*index)]);
+}
+
+std::optional<GroundPose> VertexCloudMap::ProjectForBox(const Pose2& pose) const {
+  if (config_.normal_neighbours <= 1) return Project(pose);
+  const std::optional<int> index = NearestIndex(pose);
+  if (!index) return std::nullopt;
+  const Vec3& p = cloud_.points()[static_cast<std::size_t>(*index)];
+  Vec3 normal = cloud_.normals()[static_cast<std::size_t>(*index)];
+  if (normal.z() >= kMinNormalZ) {
+    // The least-squares plane through the nearest point and those of its normal_neighbours nearest
+    // within normal_radius_m: its normal is the covariance's eigenvector of the smallest eigenvalue,
+    // turned to the side of the point's own normal. Fewer than three points, or no clear plane (a
+    // line of points, a blob), keep the point's own normal.
+    thread_local std::vector<TraversabilityCloud::Neighbor> neighbours;
+    cloud_.KNearest(p, static_cast<std::size_t>(config_.normal_neighbours), &neighbours);
+    const double r2 = config_.normal_radius_m * config_.normal_radius_m;
+    Vec3 sum = Vec3::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    int n = 0;
+    for (const TraversabilityCloud::Neighbor& nb : neighbours) {
+      const Vec3 d = cloud_.points()[static_cast<std::size_t>(nb.index)] - p;
+      if (d.squaredNorm() > r2) continue;
+      sum += d;
+      outer += d * d.transpose();
+      ++n;
+    }
+    if (n >= 3) {
+      const Vec3 mean = sum / n;
+      const Eigen::Matrix3d covariance = outer / n - mean * mean.transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+      solver.computeDirect(covariance);
+      const Eigen::Vector3d& values = solver.eigenvalues();
+      if (solver.info() == Eigen::Success && values(0) < 0.25 * values(1)) {
+        Vec3 fitted = solver.eigenvectors().col(0);
+        if (fitted.dot(normal) < 0.0) fitted = -fitted;
+        if (fitted.z() >= kMinNormalZ) normal = fitted.normalized();
+      }
+    }
+  }
+  return OnPlane(pose, *index, normal);
 }
 
 PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const {

@@ -292,6 +292,8 @@ void ReadParams(MapReader r, Scenario* s) {
     m.Get("blocked_confirmations", &s->replan.blocked_confirmations);
     m.Get("blocked_near_m", &s->replan.blocked_near_m);
     m.Get("max_projection_distance_m", &s->map.max_projection_distance_m);
+    m.Get("normal_neighbours", &s->map.normal_neighbours);
+    m.Get("normal_radius_m", &s->map.normal_radius_m);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("controller")) {
@@ -455,6 +457,9 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   // The box on the nearest point's tangent plane (the paper's rule); the slope scenarios set
   // placement: wheel_contacts, which broke low_roof_1p6 as a suite-wide default (docs/CLOSED_LOOP.md).
   s.planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
+  // That tangent plane from the 32 nearest points within 0.5 m rather than one vertex normal, which
+  // range noise tilts enough to put flat ground into the box (docs/CLOSED_LOOP.md).
+  s.map.normal_neighbours = 32;
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);

@@ -38,6 +38,20 @@ TEST(VertexCloudTest, QueriesMatchBruteForce) {
     EXPECT_EQ(nearest->index, best);
     EXPECT_NEAR(nearest->distance_m, best_d, 1e-12);
 
+    // The k nearest: the first k of all points sorted by distance (ties are measure-zero here).
+    std::vector<std::pair<double, int>> by_distance;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      by_distance.push_back({(cloud.points()[i] - query).norm(), static_cast<int>(i)});
+    }
+    std::sort(by_distance.begin(), by_distance.end());
+    std::vector<TraversabilityCloud::Neighbor> knn;
+    cloud.KNearest(query, 7, &knn);
+    ASSERT_EQ(knn.size(), 7u);
+    for (std::size_t k = 0; k < knn.size(); ++k) {
+      EXPECT_EQ(knn[k].index, by_distance[k].second);
+      EXPECT_NEAR(knn[k].distance_m, by_distance[k].first, 1e-12);
+    }
+
     const auto found = cloud.WithinRadius(query, 1.5);
     std::vector<int> got;
     for (const auto& nb : found) got.push_back(nb.index);
@@ -66,6 +80,9 @@ TEST(VertexCloudTest, EmptyCloudAnswersNothing) {
   EXPECT_TRUE(cloud.empty());
   EXPECT_FALSE(cloud.Nearest(Vec3::Zero()).has_value());
   EXPECT_TRUE(cloud.WithinRadius(Vec3::Zero(), 5.0).empty());
+  std::vector<TraversabilityCloud::Neighbor> knn = {{0, 1.0}};
+  cloud.KNearest(Vec3::Zero(), 3, &knn);
+  EXPECT_TRUE(knn.empty());
   EXPECT_TRUE(cloud.InBox(Eigen::Isometry3d::Identity(), Vec3::Ones()).empty());
   EXPECT_THROW(TraversabilityCloud({Vec3::Zero()}, {}, {}), std::invalid_argument);
 }

@@ -274,6 +274,68 @@ TEST(VertexCloudMapTest, WheelPlacementStillStopsAtASteepRampAndAStep) {
   EXPECT_EQ(CheckPose(*step.map, wheels, Pose2{-2.1, 0.0, 0.0}), PoseCheck::kCollision);  // nose at the wall
 }
 
+// Flat ground 0.1 m apart with 1.5 cm of height noise, whose vertex normals are tilted by up to
+// ~17 degrees at random (as range noise tilts a mesh's small faces): on the nearest point's own
+// normal the 3 m box tilts, flat ground near its ends rises above the ground clearance, and poses
+// on open ground collide. The plane fitted to the 32 nearest points is within a few degrees of
+// level, and no pose collides.
+TEST(VertexCloudMapTest, PlaneOfTheNearestPointsKeepsNoisyFlatGroundFree) {
+  Points points;
+  std::vector<Vec3> normals;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> tilt(-0.3, 0.3);
+  std::normal_distribution<double> noise(0.0, 0.015);
+  for (int i = -60; i <= 60; ++i) {
+    for (int j = -60; j <= 60; ++j) {
+      points.emplace_back(0.1 * i, 0.1 * j, noise(rng));
+      normals.push_back(Vec3(tilt(rng), tilt(rng), 1.0).normalized());
+    }
+  }
+  const TraversabilityCloud cloud(points, normals, std::vector<std::uint8_t>(points.size(), 1));
+  VertexCloudMap::Config own;
+  VertexCloudMap::Config mean = own;
+  mean.normal_neighbours = 32;
+  const VertexCloudMap own_map(cloud, own), mean_map(cloud, mean);
+  VehicleBox vehicle;
+  vehicle.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  std::uniform_real_distribution<double> u(-2.0, 2.0), yaw(-kPi, kPi);
+  int own_collisions = 0;
+  double worst_tilt_deg = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    const Pose2 pose{u(rng), u(rng), yaw(rng)};
+    if (CheckPose(own_map, vehicle, pose) == PoseCheck::kCollision) ++own_collisions;
+    EXPECT_EQ(CheckPose(mean_map, vehicle, pose), PoseCheck::kValid);
+    const auto ground = mean_map.ProjectForBox(pose);
+    ASSERT_TRUE(ground.has_value());
+    worst_tilt_deg = std::max(worst_tilt_deg, std::acos(ground->T_L_B.linear()(2, 2)) * 180.0 / kPi);
+    // The surface point and its traversability are still the nearest point's, and Project is
+    // unchanged (the paper's rule, used for everything but the box).
+    const auto own_ground = own_map.Project(pose);
+    EXPECT_EQ(ground->surface_point, own_ground->surface_point);
+    EXPECT_EQ(ground->traversable, own_ground->traversable);
+    EXPECT_EQ(mean_map.Project(pose)->T_L_B.matrix(), own_ground->T_L_B.matrix());
+  }
+  EXPECT_GT(own_collisions, 10);
+  EXPECT_LT(worst_tilt_deg, 4.0);
+
+  // A 0.3 m step 1.5 m ahead still collides: the fit takes only points within normal_radius_m of
+  // the nearest, all on the lower level.
+  Points step;
+  for (int i = -30; i <= 40; ++i) {
+    for (int j = -20; j <= 20; ++j) step.emplace_back(0.1 * i, 0.1 * j, i >= 15 ? 0.3 : 0.0);
+  }
+  const VertexCloudMap step_map(TraversabilityCloud(step, std::vector<Vec3>(step.size(), Vec3::UnitZ()),
+                                                    std::vector<std::uint8_t>(step.size(), 1)),
+                                mean);
+  EXPECT_EQ(CheckPose(step_map, vehicle, Pose2{0.0, 0.0, 0.0}), PoseCheck::kCollision);
+  EXPECT_EQ(CheckPose(step_map, vehicle, Pose2{-0.5, 0.0, kPi}), PoseCheck::kValid);
+  mean.normal_neighbours = 0;
+  EXPECT_THROW(mean.Validate(), std::invalid_argument);
+  mean.normal_neighbours = 32;
+  mean.normal_radius_m = -1.0;
+  EXPECT_THROW(mean.Validate(), std::invalid_argument);
+}
+
 TEST(VertexCloudMapTest, FarFromEveryPointIsOutsideKnownSpace) {
   const PlanningScene scene = BuildScene(testing::PostsScene());
   const VehicleBox vehicle;

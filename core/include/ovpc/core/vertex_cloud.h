@@ -31,6 +31,9 @@ class TraversabilityCloud {
 
   /// Nearest point to `query`, or nothing if the cloud is empty.
   std::optional<Neighbor> Nearest(const Vec3& query) const;
+  /// The up to `k` points nearest to `query`, nearest first, into `out` (cleared first); none if the
+  /// cloud is empty or the query is not finite.
+  void KNearest(const Vec3& query, std::size_t k, std::vector<Neighbor>* out) const;
   /// All points within `radius_m` of `query`, sorted by distance.
   std::vector<Neighbor> WithinRadius(const Vec3& query, double radius_m) const;
   /// Indices of all points inside the oriented box with centre pose `T_L_B` (box frame B in the

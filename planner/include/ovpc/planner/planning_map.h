@@ -85,6 +85,10 @@ class PlanningMap {
   virtual ~PlanningMap() = default;
   /// Places the planar pose on the ground, or nothing when the place is outside known free space.
   virtual std::optional<GroundPose> Project(const Pose2& pose) const = 0;
+  /// Project for the vehicle box placed on the nearest point (VehicleBox::Placement::kNearestPoint):
+  /// the same place and traversability, on a ground plane the map may estimate over more than the
+  /// one point (VertexCloudMap::Config::normal_neighbours). By default, Project.
+  virtual std::optional<GroundPose> ProjectForBox(const Pose2& pose) const { return Project(pose); }
   /// kValid if the vehicle box at `ground` holds no map point above the ground clearance
   /// (kCollision otherwise) and no non-traversable point lies under its footprint
   /// (kGroundUnderFootprint otherwise). When both hold, the collision is reported.

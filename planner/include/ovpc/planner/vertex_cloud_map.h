@@ -24,6 +24,15 @@ class VertexCloudMap final : public PlanningMap {
     double ground_reference_z_m = 0.0;
     /// A pose farther than this from its nearest visible point is outside known free space.
     double max_projection_distance_m = 0.75;
+    /// The pose's ground plane passes through the nearest visible point. With `normal_neighbours`
+    /// > 1 its normal is that of the least-squares plane through the nearest point and those of its
+    /// `normal_neighbours` nearest within `normal_radius_m` of it (when they span a plane); with 1,
+    /// the nearest point's own vertex normal (the paper's rule). Range noise tilts the small faces of
+    /// measured ground and with them the vertex normals (by up to ~20 degrees on flat ground), and
+    /// over the 3 m box such a tilt lifts flat ground near the box's ends above the ground
+    /// clearance: a false collision. The fitted plane averages the noise out over the neighbours.
+    int normal_neighbours = 1;
+    double normal_radius_m = 0.5;
     /// Ground known to carry the vehicle without being seen: the vehicle's own footprint (the sensor
     /// never sees the ground it stands on). A rectangle in the map's xy plane: `pose` (origin and
     /// heading), x from `min_x_m` to `max_x_m` along the heading, y within +-`half_width_m`. With
@@ -46,6 +55,7 @@ class VertexCloudMap final : public PlanningMap {
   VertexCloudMap(TraversabilityCloud cloud, const Config& config);
 
   std::optional<GroundPose> Project(const Pose2& pose) const override;
+  std::optional<GroundPose> ProjectForBox(const Pose2& pose) const override;
   PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override;
   bool IsKnownFree(double x_m, double y_m) const override;
   /// The planar bounding box of all visible points (the local mesh extent).
@@ -55,6 +65,11 @@ class VertexCloudMap final : public PlanningMap {
   const Config& config() const { return config_; }
 
  private:
+  // The nearest visible point to the pose (see Project), if within max_projection_distance_m.
+  std::optional<int> NearestIndex(const Pose2& pose) const;
+  // The pose on the plane through point `index` with `normal` (level and not traversable if the
+  // normal is too steep to stand on).
+  GroundPose OnPlane(const Pose2& pose, int index, Vec3 normal) const;
   // The box test runs for every state the planner checks, so the points are also kept in a planar
   // grid of cells (counting-sorted copies, contiguous per cell, sorted by height within a cell); the
   // test visits the cells under the box, only the run of each cell's points that can lie in the
