@@ -66,6 +66,7 @@ VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
       throw std::invalid_argument("VertexCloudMap: point " + std::to_string(i) + " of the cloud is not finite");
     }
   }
+  if (config_.normal_neighbours > 1) fits_ = std::make_shared<FitCache>(cloud_.size());
   support_cos_ = std::cos(config_.known_support.pose.yaw_rad);
   support_sin_ = std::sin(config_.known_support.pose.yaw_rad);
   if (cloud_.empty()) return;  // empty bounds: every pose is outside the map
@@ -142,40 +143,49 @@ std::optional<GroundPose> VertexCloudMap::ProjectForBox(const Pose2& pose) const
   if (config_.normal_neighbours <= 1) return Project(pose);
   const std::optional<int> index = NearestIndex(pose);
   if (!index) return std::nullopt;
-  const Vec3& p = cloud_.points()[static_cast<std::size_t>(*index)];
-  Vec3 normal = cloud_.normals()[static_cast<std::size_t>(*index)];
-  if (normal.z() >= kMinNormalZ) {
-    // The least-squares plane through the nearest point and those of its normal_neighbours nearest
-    // within normal_radius_m: its normal is the covariance's eigenvector of the smallest eigenvalue,
-    // turned to the side of the point's own normal. Fewer than three points, or no clear plane (a
-    // line of points, a blob), keep the point's own normal.
-    thread_local std::vector<TraversabilityCloud::Neighbor> neighbours;
-    cloud_.KNearest(p, static_cast<std::size_t>(config_.normal_neighbours), &neighbours);
-    const double r2 = config_.normal_radius_m * config_.normal_radius_m;
-    Vec3 sum = Vec3::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    int n = 0;
-    for (const TraversabilityCloud::Neighbor& nb : neighbours) {
-      const Vec3 d = cloud_.points()[static_cast<std::size_t>(nb.index)] - p;
-      if (d.squaredNorm() > r2) continue;
-      sum += d;
-      outer += d * d.transpose();
-      ++n;
-    }
-    if (n >= 3) {
-      const Vec3 mean = sum / n;
-      const Eigen::Matrix3d covariance = outer / n - mean * mean.transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-      solver.computeDirect(covariance);
-      const Eigen::Vector3d& values = solver.eigenvalues();
-      if (solver.info() == Eigen::Success && values(0) < 0.25 * values(1)) {
-        Vec3 fitted = solver.eigenvectors().col(0);
-        if (fitted.dot(normal) < 0.0) fitted = -fitted;
-        if (fitted.z() >= kMinNormalZ) normal = fitted.normalized();
-      }
-    }
+  const auto i = static_cast<std::size_t>(*index);
+  std::atomic<std::uint8_t>& state = fits_->state[i];
+  if (state.load(std::memory_order_acquire) == 2) return OnPlane(pose, *index, fits_->normal[i]);
+  const Vec3 normal = FittedNormal(*index);
+  std::uint8_t empty = 0;
+  if (state.compare_exchange_strong(empty, 1, std::memory_order_acq_rel)) {
+    fits_->normal[i] = normal;
+    state.store(2, std::memory_order_release);
   }
   return OnPlane(pose, *index, normal);
+}
+
+Vec3 VertexCloudMap::FittedNormal(int index) const {
+  const Vec3& p = cloud_.points()[static_cast<std::size_t>(index)];
+  const Vec3& own = cloud_.normals()[static_cast<std::size_t>(index)];
+  if (!(own.z() >= kMinNormalZ)) return own;
+  // The least-squares plane through the point and those of its normal_neighbours nearest within
+  // normal_radius_m: its normal is the covariance's eigenvector of the smallest eigenvalue, turned to
+  // the side of the point's own normal. Fewer than three points, or no clear plane (a line of
+  // points, a blob), keep the point's own normal.
+  thread_local std::vector<TraversabilityCloud::Neighbor> neighbours;
+  cloud_.KNearest(p, static_cast<std::size_t>(config_.normal_neighbours), &neighbours);
+  const double r2 = config_.normal_radius_m * config_.normal_radius_m;
+  Vec3 sum = Vec3::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  int n = 0;
+  for (const TraversabilityCloud::Neighbor& nb : neighbours) {
+    const Vec3 d = cloud_.points()[static_cast<std::size_t>(nb.index)] - p;
+    if (d.squaredNorm() > r2) continue;
+    sum += d;
+    outer += d * d.transpose();
+    ++n;
+  }
+  if (n < 3) return own;
+  const Vec3 mean = sum / n;
+  const Eigen::Matrix3d covariance = outer / n - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(covariance);
+  const Eigen::Vector3d& values = solver.eigenvalues();
+  if (solver.info() != Eigen::Success || !(values(0) < 0.25 * values(1))) return own;
+  Vec3 fitted = solver.eigenvectors().col(0);
+  if (fitted.dot(own) < 0.0) fitted = -fitted;
+  return fitted.z() >= kMinNormalZ ? Vec3(fitted.normalized()) : own;
 }
 
 PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const {

@@ -4,6 +4,8 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -334,6 +336,37 @@ TEST(VertexCloudMapTest, PlaneOfTheNearestPointsKeepsNoisyFlatGroundFree) {
   mean.normal_neighbours = 32;
   mean.normal_radius_m = -1.0;
   EXPECT_THROW(mean.Validate(), std::invalid_argument);
+}
+
+// The fitted planes are made on first use and kept; two threads asking at once get what one thread
+// gets from a fresh map.
+TEST(VertexCloudMapTest, FittedPlanesAreTheSameFromConcurrentCalls) {
+  const PlanningScene scene = BuildScene(testing::PostsScene());
+  VertexCloudMap::Config config;
+  config.normal_neighbours = 32;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-8.0, 8.0), yaw(-kPi, kPi);
+  std::vector<Pose2> poses;
+  for (int k = 0; k < 2000; ++k) poses.push_back(Pose2{u(rng), u(rng), yaw(rng)});
+  const auto run = [&poses](const VertexCloudMap& map, std::vector<Eigen::Matrix4d>* out) {
+    out->clear();
+    for (const Pose2& pose : poses) {
+      const auto g = map.ProjectForBox(pose);
+      out->push_back(g ? g->T_L_B.matrix() : Eigen::Matrix4d::Zero());
+    }
+  };
+  std::vector<Eigen::Matrix4d> expected, a, b;
+  run(VertexCloudMap(scene.map->cloud(), config), &expected);
+  const VertexCloudMap shared(scene.map->cloud(), config);
+  std::thread first([&] { run(shared, &a); });
+  std::thread second([&] { run(shared, &b); });
+  first.join();
+  second.join();
+  EXPECT_EQ(a, expected);
+  EXPECT_EQ(b, expected);
+  // And again, now from the kept planes.
+  run(shared, &a);
+  EXPECT_EQ(a, expected);
 }
 
 TEST(VertexCloudMapTest, FarFromEveryPointIsOutsideKnownSpace) {

@@ -1,7 +1,9 @@
 // PlanningMap on the OVPC vertex cloud (core's TraversabilityCloud).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "ovpc/core/vertex_cloud.h"
@@ -70,6 +72,8 @@ class VertexCloudMap final : public PlanningMap {
   // The pose on the plane through point `index` with `normal` (level and not traversable if the
   // normal is too steep to stand on).
   GroundPose OnPlane(const Pose2& pose, int index, Vec3 normal) const;
+  // The normal of the plane fitted around point `index` (see Config::normal_neighbours).
+  Vec3 FittedNormal(int index) const;
   // The box test runs for every state the planner checks, so the points are also kept in a planar
   // grid of cells (counting-sorted copies, contiguous per cell, sorted by height within a cell); the
   // test visits the cells under the box, only the run of each cell's points that can lie in the
@@ -84,6 +88,15 @@ class VertexCloudMap final : public PlanningMap {
   };
 
   TraversabilityCloud cloud_;
+  // Fitted normals, per point, made on first use: the planner projects many poses onto the same
+  // points. Safe from concurrent const calls: a slot is written only by the thread that claimed it
+  // (state 0 -> 1), and read once its state is 2; a thread that finds it claimed fits on its own.
+  struct FitCache {
+    explicit FitCache(std::size_t n) : state(new std::atomic<std::uint8_t>[n]()), normal(n) {}
+    std::unique_ptr<std::atomic<std::uint8_t>[]> state;
+    std::vector<Vec3> normal;
+  };
+  std::shared_ptr<FitCache> fits_;
   Config config_;
   // The known support region's heading, for the box test's wheel checks (made once per map).
   double support_cos_ = 1.0, support_sin_ = 0.0;
