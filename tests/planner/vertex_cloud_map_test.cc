@@ -295,9 +295,9 @@ TEST(VertexCloudMapTest, PlaneOfTheNearestPointsKeepsNoisyFlatGroundFree) {
   }
   const TraversabilityCloud cloud(points, normals, std::vector<std::uint8_t>(points.size(), 1));
   VertexCloudMap::Config own;
-  VertexCloudMap::Config mean = own;
-  mean.normal_neighbours = 32;
-  const VertexCloudMap own_map(cloud, own), mean_map(cloud, mean);
+  VertexCloudMap::Config fitted = own;
+  fitted.normal_neighbours = 32;
+  const VertexCloudMap own_map(cloud, own), fitted_map(cloud, fitted);
   VehicleBox vehicle;
   vehicle.footprint_check = VehicleBox::FootprintCheck::kWheels;
   std::uniform_real_distribution<double> u(-2.0, 2.0), yaw(-kPi, kPi);
@@ -306,8 +306,8 @@ TEST(VertexCloudMapTest, PlaneOfTheNearestPointsKeepsNoisyFlatGroundFree) {
   for (int k = 0; k < 300; ++k) {
     const Pose2 pose{u(rng), u(rng), yaw(rng)};
     if (CheckPose(own_map, vehicle, pose) == PoseCheck::kCollision) ++own_collisions;
-    EXPECT_EQ(CheckPose(mean_map, vehicle, pose), PoseCheck::kValid);
-    const auto ground = mean_map.ProjectForBox(pose);
+    EXPECT_EQ(CheckPose(fitted_map, vehicle, pose), PoseCheck::kValid);
+    const auto ground = fitted_map.ProjectForBox(pose);
     ASSERT_TRUE(ground.has_value());
     worst_tilt_deg = std::max(worst_tilt_deg, std::acos(ground->T_L_B.linear()(2, 2)) * 180.0 / kPi);
     // The surface point and its traversability are still the nearest point's, and Project is
@@ -315,7 +315,7 @@ TEST(VertexCloudMapTest, PlaneOfTheNearestPointsKeepsNoisyFlatGroundFree) {
     const auto own_ground = own_map.Project(pose);
     EXPECT_EQ(ground->surface_point, own_ground->surface_point);
     EXPECT_EQ(ground->traversable, own_ground->traversable);
-    EXPECT_EQ(mean_map.Project(pose)->T_L_B.matrix(), own_ground->T_L_B.matrix());
+    EXPECT_EQ(fitted_map.Project(pose)->T_L_B.matrix(), own_ground->T_L_B.matrix());
   }
   EXPECT_GT(own_collisions, 10);
   EXPECT_LT(worst_tilt_deg, 4.0);
@@ -328,14 +328,14 @@ TEST(VertexCloudMapTest, PlaneOfTheNearestPointsKeepsNoisyFlatGroundFree) {
   }
   const VertexCloudMap step_map(TraversabilityCloud(step, std::vector<Vec3>(step.size(), Vec3::UnitZ()),
                                                     std::vector<std::uint8_t>(step.size(), 1)),
-                                mean);
+                                fitted);
   EXPECT_EQ(CheckPose(step_map, vehicle, Pose2{0.0, 0.0, 0.0}), PoseCheck::kCollision);
   EXPECT_EQ(CheckPose(step_map, vehicle, Pose2{-0.5, 0.0, kPi}), PoseCheck::kValid);
-  mean.normal_neighbours = 0;
-  EXPECT_THROW(mean.Validate(), std::invalid_argument);
-  mean.normal_neighbours = 32;
-  mean.normal_radius_m = -1.0;
-  EXPECT_THROW(mean.Validate(), std::invalid_argument);
+  fitted.normal_neighbours = 0;
+  EXPECT_THROW(fitted.Validate(), std::invalid_argument);
+  fitted.normal_neighbours = 32;
+  fitted.normal_radius_m = -1.0;
+  EXPECT_THROW(fitted.Validate(), std::invalid_argument);
 }
 
 // The fitted planes are made on first use and kept; two threads asking at once get what one thread
