@@ -358,9 +358,15 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
     LocalGoal goal;
     double score;
   };
+  // Near the route's end a point beside it is no nearer the end than the route point behind it: the
+  // offset also counts by how much it lengthens the straight way to the end.
+  const auto score_of = [&](double progress_m, double offset) {
+    const double remaining = std::max(0.0, route.back().progress_m - progress_m);
+    const double detour = std::hypot(remaining, offset) - remaining;
+    return progress_m - config.lateral_offset_penalty * std::abs(offset) - detour;
+  };
   std::vector<Scored> scored;
   for (double offset : offsets) {
-    const double penalty = config.lateral_offset_penalty * std::abs(offset);
     for (std::size_t i = end; i-- > closest;) {
       const RoutePoint& r = route[i];
       const Eigen::Vector2d side(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
@@ -368,18 +374,15 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
       const bool is_end = offset == 0.0 && (r.is_end || route.back().progress_m - r.progress_m <= config.end_zone_m);
       const Pose2 pose{p.x(), p.y(), r.yaw_rad};
       if (qualifies(pose, is_end)) {
-        // Near the route's end a point beside it is no nearer the end than the route point behind
-        // it: the offset also counts by how much it lengthens the straight way to the end.
-        const double remaining = route.back().progress_m - r.progress_m;
-        const double detour = std::hypot(remaining, offset) - remaining;
-        scored.push_back({LocalGoal{pose, r.progress_m, is_end}, r.progress_m - penalty - detour});
+        scored.push_back({LocalGoal{pose, r.progress_m, is_end, offset}, score_of(r.progress_m, offset)});
         break;
       }
     }
   }
   std::stable_sort(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) { return a.score > b.score; });
   if (previous_L && config.keep_previous_within_m > 0.0 && qualifies(previous_L->pose, previous_L->is_route_end) &&
-      (scored.empty() || scored.front().goal.route_progress_m <= previous_L->route_progress_m + config.keep_previous_within_m)) {
+      (scored.empty() || scored.front().score <= score_of(previous_L->route_progress_m, previous_L->lateral_offset_m) +
+                                                    config.keep_previous_within_m)) {
     goals.push_back(*previous_L);
   }
   for (const Scored& s : scored) {

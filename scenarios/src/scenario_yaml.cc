@@ -275,6 +275,7 @@ void ReadParams(MapReader r, Scenario* s) {
                  {"wheel_contacts", planner::VehicleBox::Placement::kWheelContacts}},
                 &s->planner.vehicle.placement);
     m.Get("max_tilt_deg", &s->planner.vehicle.max_tilt_deg);
+    m.Get("max_roll_deg", &s->planner.vehicle.max_roll_deg);
     m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
     m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
     m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);

@@ -99,18 +99,23 @@ TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFur
   LocalGoalConfig config;
   const auto fresh = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(fresh.has_value());
-  // A previous goal beside the route, 1 m short of the new one.
-  LocalGoal previous{Pose2{fresh->pose.x_m - 1.0, 1.5, 0.0}, fresh->route_progress_m - 1.0, false};
+  // A previous goal 1.5 m beside the route, 1 m short of the new one: it scores 1 m of progress
+  // less, 0.75 m of offset penalty less (0.5 per metre) and its small detour to the route's end less.
+  LocalGoal previous{Pose2{fresh->pose.x_m - 1.0, 1.5, 0.0}, fresh->route_progress_m - 1.0, false, 1.5};
+  const double remaining = 27.0 - previous.route_progress_m;
+  const double behind = 1.0 + 0.75 + std::hypot(remaining, 1.5) - remaining;
+  ASSERT_GT(behind, 1.75);
+  ASSERT_LT(behind, 2.0);
   config.keep_previous_within_m = 0.0;  // off: the new goal
   auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
-  config.keep_previous_within_m = 1.5;  // the new goal is not 1.5 m further: keep the previous one
+  config.keep_previous_within_m = 2.0;  // the new goal does not score 2 m more: keep the previous one
   goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.y_m, 1.5, 1e-12);
   EXPECT_NEAR(goal->route_progress_m, previous.route_progress_m, 1e-12);
-  config.keep_previous_within_m = 0.5;  // it is more than 0.5 m further: take it
+  config.keep_previous_within_m = 1.5;  // 1 m further along the route, but it scores more than 1.5 m more: take it
   goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
@@ -120,6 +125,41 @@ TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFur
   goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, gone);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.x_m, fresh->pose.x_m, 1e-12);
+}
+
+// Flat, traversable ground every 0.1 m over [-4, 12] x [-8, 8].
+TraversabilityCloud FlatGround() {
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  for (int i = -40; i <= 120; ++i) {
+    for (int j = -80; j <= 80; ++j) {
+      points.emplace_back(0.1 * i, 0.1 * j, 0.0);
+      normals.push_back(Vec3::UnitZ());
+      traversable.push_back(1);
+    }
+  }
+  return TraversabilityCloud(points, normals, traversable);
+}
+
+// Near the route's end, a goal 3 m beside the end has the end's route progress, but is not the end:
+// once the end itself qualifies, it gives way to it, however sticky the previous goal is made.
+TEST(LocalGoalTest, AGoalBesideTheRoutesEndGivesWayToTheEnd) {
+  const VertexCloudMap map(FlatGround(), VertexCloudMap::Config{});
+  const std::vector<Eigen::Vector2d> route = {{-3.0, 0.0}, {8.0, 0.0}};
+  const Pose2 vehicle{2.0, -3.0, 0.0};
+  LocalGoalConfig config;
+  config.min_distance_m = 2.5;
+  config.lateral_offsets_m = {1.5, 3.0};
+  config.keep_previous_within_m = 1.0;
+  const LocalGoal beside{Pose2{8.0, -3.0, 0.0}, 11.0, false, -3.0};
+  ASSERT_EQ(CheckPose(map, VehicleBox{}, beside.pose), PoseCheck::kValid);
+  const auto goal = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, vehicle, config, beside);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_TRUE(goal->is_route_end);
+  EXPECT_NEAR(goal->pose.x_m, 8.0, 1e-9);
+  EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
+  EXPECT_EQ(goal->lateral_offset_m, 0.0);
 }
 
 // Flat ground every 0.1 m over [-4, 12] x [-8, 8] and a wall 2 m high across y in [-3, 3] at x = 5
@@ -181,16 +221,10 @@ TEST(LocalGoalTest, AWideOffsetWinsWhenItGetsMuchFurther) {
 // the end): the last metre of the route counts as its end, so the goal is on the route just short of
 // it rather than beside the route at least min_distance_m away.
 TEST(LocalGoalTest, TheLastMetreOfTheRouteStandsInForItsEnd) {
-  Points points;
-  std::vector<Vec3> normals;
-  std::vector<std::uint8_t> traversable;
-  for (int i = -40; i <= 120; ++i) {
-    for (int j = -80; j <= 80; ++j) {
-      points.emplace_back(0.1 * i, 0.1 * j, 0.0);
-      normals.push_back(Vec3::UnitZ());
-      traversable.push_back(1);
-    }
-  }
+  const TraversabilityCloud ground = FlatGround();
+  Points points = ground.points();
+  std::vector<Vec3> normals = ground.normals();
+  std::vector<std::uint8_t> traversable = ground.traversable();
   points.emplace_back(10.3, 0.0, 1.0);  // in the box of a pose at x = 8 (box to 10.4 m), not at 7.75
   normals.push_back(-Vec3::UnitX());
   traversable.push_back(0);

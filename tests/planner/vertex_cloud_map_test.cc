@@ -276,6 +276,37 @@ TEST(VertexCloudMapTest, WheelPlacementStillStopsAtASteepRampAndAStep) {
   EXPECT_EQ(CheckPose(*step.map, wheels, Pose2{-2.1, 0.0, 0.0}), PoseCheck::kCollision);  // nose at the wall
 }
 
+// On a 20 deg ramp the vehicle rolls by atan(tan 20 deg * sin(heading off the fall line)): with
+// max_roll_deg 8, straight up and 15 deg off it pass (5.4 deg of roll), 45 deg off it (14.4 deg) does
+// not, whichever placement; without the limit (90, the default) every heading passes.
+TEST(VertexCloudMapTest, RollLimitKeepsTheVehicleNearTheFallLineOnARamp) {
+  const PlanningScene ramp = LongRamp(20.0, -3.6);
+  for (const auto placement : {VehicleBox::Placement::kNearestPoint, VehicleBox::Placement::kWheelContacts}) {
+    VehicleBox free_roll;
+    free_roll.footprint_check = VehicleBox::FootprintCheck::kWheels;
+    free_roll.placement = placement;
+    free_roll.ground_clearance_m = 0.35;
+    VehicleBox limited = free_roll;
+    limited.max_roll_deg = 8.0;
+    for (double off_deg : {0.0, 15.0, -15.0, 45.0, -45.0}) {
+      const Pose2 pose{2.0, 0.0, DegToRad(off_deg)};
+      const PoseCheck unlimited = CheckPose(*ramp.map, free_roll, pose);
+      EXPECT_EQ(unlimited, PoseCheck::kValid) << off_deg;
+      const PoseCheck check = CheckPose(*ramp.map, limited, pose);
+      if (std::abs(off_deg) < 30.0) {
+        EXPECT_EQ(check, PoseCheck::kValid) << off_deg;
+      } else {
+        EXPECT_EQ(check, PoseCheck::kNotTraversable) << off_deg;
+      }
+    }
+  }
+  VehicleBox bad;
+  bad.max_roll_deg = 0.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+  bad.max_roll_deg = 91.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 // Flat ground 0.1 m apart with 1.5 cm of height noise, whose vertex normals are tilted by up to
 // ~17 degrees at random (as range noise tilts a mesh's small faces): on the nearest point's own
 // normal the 3 m box tilts, flat ground near its ends rises above the ground clearance, and poses

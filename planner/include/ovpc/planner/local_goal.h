@@ -55,9 +55,11 @@ struct LocalGoalConfig {
   /// (hypot(remaining, offset) - remaining: about nothing far from the end, the whole offset at the
   /// end), wins (ties: the smaller offset): a wide detour is taken when it gets much further.
   double lateral_offset_penalty = 0.5;
-  /// Keep the previous goal, if it still qualifies, unless the new one lies more than this much
-  /// further along the route: goals flickering between the two sides of a post make paths that
-  /// undo each other. 0: always take the new goal (the paper's rule).
+  /// Keep the previous goal, if it still qualifies, unless the new one scores more than this much
+  /// higher (kRoute: route progress less the offset's penalty and detour, as in the ranking below;
+  /// a goal beside the route's end therefore gives way to the end itself once that qualifies):
+  /// goals flickering between the two sides of a post make paths that undo each other. 0: always
+  /// take the new goal (the paper's rule).
   double keep_previous_within_m = 0.0;
   /// Route points are candidates from the vehicle on until the route has run outside known free
   /// space for this long: past a longer gap the route may come back into the map further on (laps
@@ -77,6 +79,7 @@ struct LocalGoal {
   Pose2 pose;                  ///< in the map frame L; yaw along the route
   double route_progress_m = 0; ///< distance along the route from its first waypoint
   bool is_route_end = false;   ///< the goal is the route's last waypoint
+  double lateral_offset_m = 0; ///< kRoute: distance beside the route (left positive), 0 on it
 };
 
 /// The farthest point along the route, ahead of the vehicle, that is inside known free space and

@@ -43,6 +43,10 @@ struct VehicleBox {
   /// kWheelContacts: the plane through the wheels may tilt at most this much from level (the face
   /// test's alpha_max); a steeper placement is not traversable.
   double max_tilt_deg = 30.0;
+  /// The placed box may roll (its y axis rise from level) at most this much, whatever the placement:
+  /// across a slope within alpha_max the vehicle can still roll further than it safely may. 90: no
+  /// limit (the paper's rule).
+  double max_roll_deg = 90.0;
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
