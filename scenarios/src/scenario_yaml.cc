@@ -1,5 +1,6 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
+#include <cmath>
 #include <fstream>
 #include <initializer_list>
 #include <set>
@@ -233,95 +234,97 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
 void ReadParams(MapReader r, Scenario* s) {
   if (const YAML::Node n = r.Child("mapper")) {
     MapReader m(n, r.Key("mapper"), r.file());
-    std::string kernel = KernelName(s->mapper.ghpr.kernel);
+    std::string kernel = KernelName(s->navigator.ovpc.mapper.ghpr.kernel);
     m.Get("kernel", &kernel);
     try {
-      s->mapper.ghpr.kernel = ParseKernel(kernel);
+      s->navigator.ovpc.mapper.ghpr.kernel = ParseKernel(kernel);
     } catch (const std::invalid_argument& e) {
       m.Fail(m.Child("kernel"), e.what());
     }
-    m.Get("gamma", &s->mapper.ghpr.gamma);
-    m.GetDegrees("alpha_max_deg", &s->mapper.traversability.alpha_max_rad);
-    m.Get("dh_max_m", &s->mapper.traversability.delta_h_max_m);
-    m.Get("noise_floor_m", &s->mapper.traversability.noise_floor_m);
-    m.Get("noise_floor_on_slopes", &s->mapper.traversability.noise_floor_on_slopes);
+    m.Get("gamma", &s->navigator.ovpc.mapper.ghpr.gamma);
+    m.GetDegrees("alpha_max_deg", &s->navigator.ovpc.mapper.traversability.alpha_max_rad);
+    m.Get("dh_max_m", &s->navigator.ovpc.mapper.traversability.delta_h_max_m);
+    m.Get("noise_floor_m", &s->navigator.ovpc.mapper.traversability.noise_floor_m);
+    m.Get("noise_floor_on_slopes", &s->navigator.ovpc.mapper.traversability.noise_floor_on_slopes);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("buffer")) {
     MapReader m(n, r.Key("buffer"), r.file());
-    m.Get("scans", &s->buffer.max_scans);
-    m.Get("crop_radius_m", &s->buffer.crop_radius_m);
-    m.Get("voxel_m", &s->buffer.voxel_size_m);
-    m.Get("min_hits", &s->buffer.min_hits);
-    m.Get("max_points", &s->buffer.max_points);
+    m.Get("scans", &s->navigator.buffer.max_scans);
+    m.Get("crop_radius_m", &s->navigator.buffer.crop_radius_m);
+    m.Get("voxel_m", &s->navigator.buffer.voxel_size_m);
+    m.Get("min_hits", &s->navigator.buffer.min_hits);
+    m.Get("max_points", &s->navigator.buffer.max_points);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("planner")) {
     MapReader m(n, r.Key("planner"), r.file());
-    m.Get("turning_radius_m", &s->planner.turning_radius_m);
-    m.Get("max_iterations", &s->planner.max_iterations);
-    m.Get("range_m", &s->planner.range_m);
-    m.Get("check_resolution_m", &s->planner.check_resolution_m);
-    m.Get("margin_m", &s->planner.vehicle.margin_m);
-    m.Get("vehicle_height_m", &s->planner.vehicle.height_m);
-    m.Get("ground_clearance_m", &s->planner.vehicle.ground_clearance_m);
+    m.Get("turning_radius_m", &s->navigator.planner.turning_radius_m);
+    m.Get("max_iterations", &s->navigator.planner.max_iterations);
+    m.Get("range_m", &s->navigator.planner.range_m);
+    m.Get("check_resolution_m", &s->navigator.planner.check_resolution_m);
+    m.Get("margin_m", &s->navigator.planner.vehicle.margin_m);
+    m.Get("vehicle_height_m", &s->navigator.planner.vehicle.height_m);
+    m.Get("ground_clearance_m", &s->navigator.planner.vehicle.ground_clearance_m);
     m.GetChoice("footprint_check",
                 {{"all_points", planner::VehicleBox::FootprintCheck::kAllPoints},
                  {"wheels", planner::VehicleBox::FootprintCheck::kWheels}},
-                &s->planner.vehicle.footprint_check);
-    m.Get("wheel_support_m", &s->planner.vehicle.wheel_support_m);
+                &s->navigator.planner.vehicle.footprint_check);
+    m.Get("wheel_support_m", &s->navigator.planner.vehicle.wheel_support_m);
     m.GetChoice("placement",
                 {{"nearest_point", planner::VehicleBox::Placement::kNearestPoint},
                  {"wheel_contacts", planner::VehicleBox::Placement::kWheelContacts}},
-                &s->planner.vehicle.placement);
-    m.Get("max_tilt_deg", &s->planner.vehicle.max_tilt_deg);
-    m.Get("max_roll_deg", &s->planner.vehicle.max_roll_deg);
-    m.Get("goal_min_distance_m", &s->local_goal.min_distance_m);
-    m.Get("goal_keep_within_m", &s->local_goal.keep_previous_within_m);
-    m.Get("goal_max_gap_m", &s->local_goal.max_gap_m);
-    m.Get("goal_max_ahead_m", &s->local_goal.max_ahead_m);
-    m.Get("goal_end_zone_m", &s->local_goal.end_zone_m);
+                &s->navigator.planner.vehicle.placement);
+    m.Get("max_tilt_deg", &s->navigator.planner.vehicle.max_tilt_deg);
+    m.Get("max_roll_deg", &s->navigator.planner.vehicle.max_roll_deg);
+    m.Get("goal_min_distance_m", &s->navigator.local_goal.min_distance_m);
+    m.Get("goal_keep_within_m", &s->navigator.local_goal.keep_previous_within_m);
+    m.Get("goal_max_gap_m", &s->navigator.local_goal.max_gap_m);
+    m.Get("goal_max_ahead_m", &s->navigator.local_goal.max_ahead_m);
+    m.Get("goal_end_zone_m", &s->navigator.local_goal.end_zone_m);
     m.GetChoice("goal_mode",
                 {{"route", planner::LocalGoalConfig::Mode::kRoute}, {"reachable", planner::LocalGoalConfig::Mode::kReachable}},
-                &s->local_goal.mode);
-    m.Get("goal_cell_m", &s->local_goal.cell_m);
-    m.Get("goal_reach_offset_penalty", &s->local_goal.reach_offset_penalty);
-    m.Get("goal_reach_support_m", &s->local_goal.reach_support_m);
-    m.Get("goal_offset_penalty", &s->local_goal.lateral_offset_penalty);
-    m.Get("replan_period_s", &s->replan.period_s);
-    m.Get("goal_too_close_m", &s->replan.goal_too_close_m);
-    m.Get("blocked_confirmations", &s->replan.blocked_confirmations);
-    m.Get("blocked_near_m", &s->replan.blocked_near_m);
-    m.Get("max_projection_distance_m", &s->map.max_projection_distance_m);
-    m.Get("normal_neighbours", &s->map.normal_neighbours);
-    m.Get("normal_radius_m", &s->map.normal_radius_m);
+                &s->navigator.local_goal.mode);
+    m.Get("goal_cell_m", &s->navigator.local_goal.cell_m);
+    m.Get("goal_reach_offset_penalty", &s->navigator.local_goal.reach_offset_penalty);
+    m.Get("goal_reach_support_m", &s->navigator.local_goal.reach_support_m);
+    m.Get("goal_offset_penalty", &s->navigator.local_goal.lateral_offset_penalty);
+    m.Get("replan_period_s", &s->navigator.replan.period_s);
+    m.Get("goal_too_close_m", &s->navigator.replan.goal_too_close_m);
+    m.Get("blocked_confirmations", &s->navigator.replan.blocked_confirmations);
+    m.Get("blocked_near_m", &s->navigator.replan.blocked_near_m);
+    m.Get("max_projection_distance_m", &s->navigator.ovpc.map.max_projection_distance_m);
+    m.Get("normal_neighbours", &s->navigator.ovpc.map.normal_neighbours);
+    m.Get("normal_radius_m", &s->navigator.ovpc.map.normal_radius_m);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("controller")) {
     MapReader m(n, r.Key("controller"), r.file());
-    m.Get("target_speed_mps", &s->controller.target_speed_mps);
-    m.Get("reverse_speed_mps", &s->controller.reverse_speed_mps);
-    m.Get("lookahead_gain_s", &s->controller.lookahead_gain_s);
-    m.Get("lookahead_min_m", &s->controller.lookahead_min_m);
-    m.Get("lookahead_max_m", &s->controller.lookahead_max_m);
-    m.Get("max_lateral_accel_mps2", &s->controller.max_lateral_accel_mps2);
+    m.Get("target_speed_mps", &s->navigator.follower.target_speed_mps);
+    m.Get("reverse_speed_mps", &s->navigator.follower.reverse_speed_mps);
+    m.Get("lookahead_gain_s", &s->navigator.follower.lookahead_gain_s);
+    m.Get("lookahead_min_m", &s->navigator.follower.lookahead_min_m);
+    m.Get("lookahead_max_m", &s->navigator.follower.lookahead_max_m);
+    m.Get("max_lateral_accel_mps2", &s->navigator.follower.max_lateral_accel_mps2);
     m.Finish();
   }
   if (const YAML::Node n = r.Child("loop")) {
     MapReader m(n, r.Key("loop"), r.file());
-    m.Get("map_rate_hz", &s->loop.map_rate_hz);
-    m.Get("control_rate_hz", &s->loop.control_rate_hz);
-    m.Get("record_rate_hz", &s->loop.record_rate_hz);
-    m.Get("mesh_snapshot_period_s", &s->loop.mesh_snapshot_period_s);
-    m.Get("footprint_prior_margin_m", &s->loop.footprint_prior_margin_m);
-    m.Get("footprint_prior_blend_m", &s->loop.footprint_prior_blend_m);
-    m.Get("known_support_margin_m", &s->loop.known_support_margin_m);
-    m.Get("route_end_any_heading", &s->loop.route_end_any_heading);
-    m.Get("isolated_point_radius_m", &s->loop.isolated_point_radius_m);
-    m.Get("isolated_point_reach_m", &s->loop.isolated_point_reach_m);
-    m.Get("goal_candidates", &s->loop.goal_candidates);
-    m.GetChoice("footprint_prior_mode", {{"replace", LoopConfig::PriorMode::kReplace}, {"fill", LoopConfig::PriorMode::kFill}},
-                &s->loop.footprint_prior_mode);
+    m.Get("map_rate_hz", &s->navigator.map_rate_hz);
+    m.Get("control_rate_hz", &s->navigator.control_rate_hz);
+    m.Get("record_rate_hz", &s->record.record_rate_hz);
+    m.Get("mesh_snapshot_period_s", &s->record.mesh_snapshot_period_s);
+    m.Get("footprint_prior_margin_m", &s->navigator.preparation.footprint_prior_margin_m);
+    m.Get("footprint_prior_blend_m", &s->navigator.preparation.footprint_prior_blend_m);
+    m.Get("known_support_margin_m", &s->navigator.known_support_margin_m);
+    m.Get("route_end_any_heading", &s->navigator.route_end_any_heading);
+    m.Get("isolated_point_radius_m", &s->navigator.preparation.isolated_point_radius_m);
+    m.Get("isolated_point_reach_m", &s->navigator.preparation.isolated_point_reach_m);
+    m.Get("goal_candidates", &s->navigator.goal_candidates);
+    m.GetChoice("footprint_prior_mode",
+                {{"replace", navigation::MapPreparation::PriorMode::kReplace},
+                 {"fill", navigation::MapPreparation::PriorMode::kFill}},
+                &s->navigator.preparation.footprint_prior_mode);
     m.Finish();
   }
   r.Finish();
@@ -392,40 +395,22 @@ void ApplySetting(YAML::Node root, const std::string& setting, const std::string
 
 }  // namespace
 
+void RecordConfig::Validate() const {
+  if (!(record_rate_hz > 0.0) || !std::isfinite(record_rate_hz)) throw std::invalid_argument("record.record_rate_hz must be > 0");
+  if (!(mesh_snapshot_period_s >= 0.0)) throw std::invalid_argument("record.mesh_snapshot_period_s must be >= 0");
+}
+
 void Scenario::Validate() const {
   auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
   if (!(time_limit_s > 0.0)) fail("time_limit_s must be > 0");
   if (route_m.empty()) fail("route needs at least one waypoint");
-  if (!(loop.map_rate_hz > 0.0) || !(loop.control_rate_hz > 0.0) || !(loop.record_rate_hz > 0.0)) {
-    fail("params.loop rates must be > 0");
-  }
-  if (loop.mesh_snapshot_period_s < 0.0) fail("params.loop.mesh_snapshot_period_s must be >= 0");
-  if (loop.goal_candidates < 1) fail("params.loop.goal_candidates must be >= 1");
-  if (!(loop.footprint_prior_margin_m >= 0.0)) fail("params.loop.footprint_prior_margin_m must be >= 0");
-  if (!(loop.footprint_prior_blend_m >= 0.0) || loop.footprint_prior_blend_m > 5.0) {
-    fail("params.loop.footprint_prior_blend_m must be in [0, 5]");
-  }
-  if (!(loop.isolated_point_radius_m >= 0.0) || loop.isolated_point_radius_m > 2.0) {
-    fail("params.loop.isolated_point_radius_m must be in [0, 2]");
-  }
-  if (!(loop.isolated_point_reach_m >= 0.0) || !std::isfinite(loop.isolated_point_reach_m)) {
-    fail("params.loop.isolated_point_reach_m must be >= 0");
-  }
-  if (!std::isfinite(loop.known_support_margin_m) || loop.known_support_margin_m > 2.0) {
-    fail("params.loop.known_support_margin_m must be at most 2 (negative disables)");
-  }
   if (criteria.goal_radius_m <= 0.0) fail("criteria.goal.radius_m must be > 0");
   for (const Region& r : criteria.forbidden) {
     if (!(r.min_m.array() < r.max_m.array()).all()) fail("criteria.forbidden '" + r.name + "': min_m must be below max_m");
   }
   sim.Validate();
-  buffer.Validate();
-  mapper.Validate();
-  planner.Validate();
-  local_goal.Validate();
-  replan.Validate();
-  map.Validate();
-  controller.Validate();
+  record.Validate();
+  navigator.Validate();
 }
 
 Scenario ParseScenario(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings) {
@@ -441,26 +426,26 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   Scenario s;
   s.path = file;
   // Closed-loop default: the simulated VLP-16's 1.5 cm range noise makes ground slivers look steep.
-  s.mapper.traversability.noise_floor_m = 0.05;
+  s.navigator.ovpc.mapper.traversability.noise_floor_m = 0.05;
   // Closed-loop defaults for the local goal: nearer goals and side offsets keep the vehicle moving
   // when the route runs through the shadow of a post (see docs/CLOSED_LOOP.md).
-  s.local_goal.min_distance_m = 2.5;
-  s.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
-  s.local_goal.keep_previous_within_m = 1.0;
-  s.local_goal.max_gap_m = 8.0;
+  s.navigator.local_goal.min_distance_m = 2.5;
+  s.navigator.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
+  s.navigator.local_goal.keep_previous_within_m = 1.0;
+  s.navigator.local_goal.max_gap_m = 8.0;
   // The last metre of the route counts as its end (noise can make the last waypoint's pose fail).
-  s.local_goal.end_zone_m = 1.0;
+  s.navigator.local_goal.end_zone_m = 1.0;
   // Short tree extensions: with OMPL's default (a fifth of the map's extent, ~8 m) nearly every
   // extension among posts and shadows fails its motion check (docs/CLOSED_LOOP.md).
-  s.planner.range_m = 1.0;
+  s.navigator.planner.range_m = 1.0;
   // The wheels' footprint rule (docs/CLOSED_LOOP.md), with the Gator's axles.
-  s.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
+  s.navigator.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
   // The box on the nearest point's tangent plane (the paper's rule); the slope scenarios set
   // placement: wheel_contacts, which broke low_roof_1p6 as a suite-wide default (docs/CLOSED_LOOP.md).
-  s.planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
+  s.navigator.planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
   // That tangent plane from the 32 nearest points within 0.5 m rather than one vertex normal, which
   // range noise tilts enough to put flat ground into the box (docs/CLOSED_LOOP.md).
-  s.map.normal_neighbours = 32;
+  s.navigator.ovpc.map.normal_neighbours = 32;
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);

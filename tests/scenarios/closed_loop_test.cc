@@ -51,17 +51,17 @@ TEST(ClosedLoopTest, IsolatedPointsNearTheSensorAreDroppedOthersKept) {
   cloud.push_back(pair_a);
   cloud.push_back(pair_b);
   Points out = cloud;
-  DropIsolatedPoints(0.25, 12.0, &out);
+  navigation::DropIsolatedPoints(0.25, 12.0, &out);
   EXPECT_EQ(out.size(), cloud.size() - 1);  // only the lone point within 12 m
   EXPECT_EQ(std::count(out.begin(), out.end(), floating), 0);
   EXPECT_EQ(std::count(out.begin(), out.end(), far_floating), 1);  // beyond the reach
   EXPECT_EQ(std::count(out.begin(), out.end(), pair_a), 1);        // two together are not alone
   EXPECT_EQ(out[5], cloud[6]);                                      // order kept
   Points off = cloud;
-  DropIsolatedPoints(0.0, 12.0, &off);
+  navigation::DropIsolatedPoints(0.0, 12.0, &off);
   EXPECT_EQ(off, cloud);
   Points empty;
-  DropIsolatedPoints(0.25, 12.0, &empty);
+  navigation::DropIsolatedPoints(0.25, 12.0, &empty);
   EXPECT_TRUE(empty.empty());
 }
 
@@ -85,7 +85,7 @@ TEST(ClosedLoopTest, IsolatedPointFilterAgreesWithABruteForceSearch) {
     if (neighbour) expected.push_back(cloud[i]);
   }
   Points out = cloud;
-  DropIsolatedPoints(0.25, 12.0, &out);
+  navigation::DropIsolatedPoints(0.25, 12.0, &out);
   EXPECT_EQ(out, expected);
   EXPECT_LT(out.size(), cloud.size());  // something was dropped
 }

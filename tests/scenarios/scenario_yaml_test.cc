@@ -42,9 +42,9 @@ TEST(ScenarioYamlTest, ReadsEverySection) {
   ASSERT_EQ(s.sim.world.ellipsoids.size(), 1u);
   EXPECT_DOUBLE_EQ(s.sim.world.ellipsoids[0].radius_z_m, 0.5);
   ASSERT_EQ(s.route_m.size(), 2u);
-  EXPECT_DOUBLE_EQ(s.mapper.ghpr.gamma, -0.02);
-  EXPECT_NEAR(RadToDeg(s.mapper.traversability.alpha_max_rad), 25.0, 1e-12);
-  EXPECT_EQ(s.buffer.max_scans, 20);
+  EXPECT_DOUBLE_EQ(s.navigator.ovpc.mapper.ghpr.gamma, -0.02);
+  EXPECT_NEAR(RadToDeg(s.navigator.ovpc.mapper.traversability.alpha_max_rad), 25.0, 1e-12);
+  EXPECT_EQ(s.navigator.buffer.max_scans, 20);
   ASSERT_TRUE(s.criteria.goal_m.has_value());
   EXPECT_DOUBLE_EQ(s.criteria.goal_m->x(), 10.0);
   ASSERT_TRUE(s.criteria.max_pitch_deg.has_value());
@@ -54,7 +54,7 @@ TEST(ScenarioYamlTest, ReadsEverySection) {
 
 TEST(ScenarioYamlTest, SettingsOverrideValues) {
   const Scenario s = ParseScenario(kMinimal, "test.yaml", {"params.mapper.gamma=-0.01", "time_limit_s=9"});
-  EXPECT_DOUBLE_EQ(s.mapper.ghpr.gamma, -0.01);
+  EXPECT_DOUBLE_EQ(s.navigator.ovpc.mapper.ghpr.gamma, -0.01);
   EXPECT_DOUBLE_EQ(s.time_limit_s, 9.0);
 }
 
@@ -83,7 +83,7 @@ TEST(ScenarioYamlTest, UnknownKeysAndWrongTypesNameFileLineAndKey) {
   EXPECT_NE(ErrorOf(kMinimal, {"params.loop.footprint_prior_blend_m=-0.5"}).find("footprint_prior_blend_m"),
             std::string::npos);
   EXPECT_DOUBLE_EQ(ParseScenario(kMinimal, "test.yaml", {"params.loop.footprint_prior_blend_m=0.75"})
-                       .loop.footprint_prior_blend_m,
+                       .navigator.preparation.footprint_prior_blend_m,
                    0.75);
   EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gammma=-0.1"}).find("unknown key 'params.mapper.gammma'"),
             std::string::npos);

@@ -1,5 +1,5 @@
-// The closed loop: simulator -> LiDAR scans -> point cloud buffer -> OVPC map -> local planner ->
-// pure pursuit -> vehicle, all driven by simulated time, and the scoring of the run.
+// The closed loop: the simulator and the robot's Navigator stepped together in simulated time, the
+// Referee scoring the run from the truth and the Recorder keeping what a user looks at.
 #pragma once
 
 #include <array>
@@ -28,15 +28,7 @@ struct CriterionResult {
   bool passed = false;
 };
 
-/// Wall-clock statistics of one loop stage, milliseconds per call.
-struct StageStats {
-  std::size_t calls = 0;
-  double mean_ms = 0.0;
-  double median_ms = 0.0;
-  double p90_ms = 0.0;
-  double max_ms = 0.0;
-  double total_ms = 0.0;
-};
+using navigation::StageStats;
 
 /// A point of the planner's map, in the world frame (for pictures), with its flag.
 struct MapPoint {
@@ -87,16 +79,17 @@ struct RunResult {
 };
 
 struct RunOptions {
+  /// Plug-ins for the robot's stack (null: the navigator's defaults). Consumed by one run.
+  navigation::Navigator::Plugins* plugins = nullptr;
   std::string out_dir;    ///< mesh snapshots and frames go here ("" writes none)
   bool frames = false;    ///< rendered chase-camera PNG frames (needs EGL)
   double frame_period_s = 0.5;
   bool progress = false;  ///< a progress line on stderr
 };
 
-/// Drops the points within `reach_m` of the viewpoint (the origin) that have no other point within
-/// `radius_m`; the others keep their order. A LiDAR outlier that survives the voxel filter (two in
-/// one voxel) floats alone in free space. `radius_m <= 0` does nothing.
-void DropIsolatedPoints(double radius_m, double reach_m, Points* points_L);
+/// The navigator's configuration for a run: the scenario's, with the vehicle model of the simulated
+/// vehicle and the planner seeded from `seed`, geometry derived (what result.json records).
+navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed);
 
 /// Runs the scenario with `seed` feeding every random source (LiDAR noise and faults, odometry,
 /// planner). The same scenario and seed give a bit-identical trajectory on the same machine.

@@ -1,0 +1,222 @@
+// The robot's stack between the sensor and the wheels: buffer, map preparation, map backend, local
+// goal and re-planning, planner and follower, driven by the time the caller gives it.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "ovpc/controller/command.h"
+#include "ovpc/controller/pure_pursuit.h"
+#include "ovpc/core/point_cloud_buffer.h"
+#include "ovpc/navigation/map_backend.h"
+#include "ovpc/navigation/map_preparation.h"
+#include "ovpc/navigation/path_follower.h"
+#include "ovpc/navigation/path_planner.h"
+#include "ovpc/navigation/vehicle_model.h"
+#include "ovpc/planner/local_goal.h"
+#include "ovpc/planner/local_planner.h"
+#include "ovpc/planner/replan.h"
+
+namespace ovpc::navigation {
+
+/// Wall-clock statistics of one stage, milliseconds per call (for reports; nothing depends on them).
+struct StageStats {
+  std::size_t calls = 0;
+  double mean_ms = 0.0;
+  double median_ms = 0.0;
+  double p90_ms = 0.0;
+  double max_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+/// Collects wall-clock samples of a stage.
+class StageTimer {
+ public:
+  void Add(double ms) { samples_.push_back(ms); }
+  StageStats Stats() const;
+
+ private:
+  std::vector<double> samples_;
+};
+
+/// One planner call (a row of plans.csv): the trigger, where the vehicle and the local goal were (in
+/// that cycle's map frame L) and how the search went.
+struct PlanAttempt {
+  double time_s = 0.0;
+  std::string reason;                ///< the re-planning trigger (planner::ReplanReasonName)
+  double blocked_at_m = 0.0;         ///< path blocked: straight-line distance to the first invalid pose
+  std::string blocked_by;            ///< path blocked: the check that failed there (planner::PoseCheckName)
+  Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();  ///< the vehicle in the cycle's map frame
+  planner::Pose2 vehicle_L;
+  bool has_goal = false;             ///< false: no local goal qualified ("no_local_goal")
+  planner::Pose2 goal_L;
+  double goal_progress_m = 0.0;      ///< route progress of the local goal
+  std::string outcome;               ///< "found", "no_path", "start_invalid:collision", "no_local_goal", ...
+  unsigned iterations = 0;
+  std::array<std::size_t, planner::kNumPoseChecks> state_checks{};  ///< by planner::PoseCheck
+};
+
+/// One map-and-plan cycle.
+struct CycleRecord {
+  double time_s = 0.0;
+  std::size_t cloud_points = 0;      ///< prepared points handed to the map backend
+  bool map_ok = false;
+  std::string trigger;               ///< planner::ReplanReasonName, "" when the map failed
+  std::string outcome;               ///< the last attempt's outcome, "" if no plan was made
+  double prepare_ms = 0.0, map_ms = 0.0, plan_ms = 0.0;  ///< wall clock
+};
+
+/// Counters over a run.
+struct NavigatorStats {
+  std::size_t map_updates = 0;
+  std::size_t map_failures = 0;      ///< updates that gave no map
+  std::size_t plans = 0;             ///< planner calls
+  std::size_t replans_found = 0;     ///< plans that gave a new path
+  std::map<std::string, std::size_t> plan_outcomes;
+  StageStats buffer, mapper, planner, controller;
+};
+
+/// The robot's stack. Inputs are what a robot has: LiDAR scans with their odometry poses, the
+/// odometry pose, the global route (in the odometry frame O), and the time; the output is a command.
+/// Everything runs on the caller's time (simulated time in the testbed): the same inputs give the
+/// same commands, bit for bit.
+///
+/// Call per odometry update, in this order: Control (at any rate; it runs the follower at
+/// Config::control_rate_hz and otherwise repeats the last command), AddScan for each new scan,
+/// Update (it tracks route progress and, at Config::map_rate_hz, runs one map-and-plan cycle).
+class Navigator {
+ public:
+  struct Config {
+    double map_rate_hz = 5.0;        ///< map-and-plan cycles per second (the paper's map rate)
+    double control_rate_hz = 50.0;   ///< follower commands per second
+    VehicleModel vehicle;
+    PointCloudBuffer::Config buffer;
+    MapPreparation::Config preparation;
+    OvpcMapBackend::Config ovpc;     ///< the default map backend
+    /// The default planner. Its vehicle box's geometry (length, width, height, centre, wheelbase,
+    /// track) and turning radius are derived from `vehicle`; the box's rules are set here.
+    planner::LocalPlanner::Config planner;
+    planner::LocalGoalConfig local_goal;
+    planner::ReplanConfig replan;
+    /// The default follower; wheelbase and steering limit are derived from `vehicle`.
+    controller::PurePursuit::Config follower;
+    /// Local goal candidates tried per re-plan, best first, until one gives a path.
+    int goal_candidates = 3;
+    /// A plan to the route's end may also arrive heading straight from the vehicle to it.
+    bool route_end_any_heading = true;
+    /// The planner takes the ground under the vehicle's footprint, grown by this margin, as support
+    /// for the wheels (the vehicle stands on it, though the sensor never sees it). Negative disables.
+    double known_support_margin_m = 0.3;
+    /// A blocked path that no new plan replaces is driven up to this far before its first blocked
+    /// pose; a remaining prefix shorter than `min_prefix_m` is dropped and the vehicle stands.
+    double blocked_stop_short_m = 0.5;
+    double min_prefix_m = 0.3;
+    /// Route progress is tracked in a window this far back and ahead of the last progress, so that a
+    /// route passing near itself is not taken as done when the vehicle cuts across.
+    double progress_back_m = 5.0;
+    double progress_ahead_m = 10.0;
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+    /// The config with every geometry field derived from `vehicle` (what the navigator runs with).
+    Config Derived() const;
+  };
+
+  /// Plug-ins; a null one is the default (OvpcMapBackend, RrtConnectPlanner, PurePursuitFollower
+  /// from the config).
+  struct Plugins {
+    std::unique_ptr<MapBackend> map;
+    std::unique_ptr<PathPlanner> planner;
+    std::unique_ptr<PathFollower> follower;
+  };
+
+  /// @param route_O the global route in the odometry frame, in driving order (at least one point).
+  /// @throws std::invalid_argument for an invalid config or route.
+  Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins = {});
+  ~Navigator();
+  Navigator(const Navigator&) = delete;
+  Navigator& operator=(const Navigator&) = delete;
+
+  /// The command at `time_s` for the vehicle at odometry pose `T_O_B` moving at `speed_mps`: the
+  /// follower's at the control rate, otherwise the last one. Stand (done) when there is no path.
+  controller::Command Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps);
+  /// Buffers one LiDAR scan (points in the sensor frame with the sensor's odometry pose).
+  void AddScan(Scan scan);
+  /// Tracks route progress at `T_O_B` and, when a map cycle is due at `time_s`, maps and plans.
+  /// Returns true if a map cycle ran.
+  bool Update(double time_s, const Eigen::Isometry3d& T_O_B);
+
+  // What a user looks at.
+  const controller::Command& command() const { return command_; }
+  /// The current path (odometry frame O); empty when the vehicle stands.
+  const planner::Path& path_O() const { return path_O_; }
+  bool has_path() const { return follower_->has_path(); }
+  /// The vehicle has reached the end of a path whose goal is the route's end.
+  bool route_end_reached() const { return follower_->has_path() && follower_->done() && goal_is_route_end_; }
+  /// The current local goal (odometry frame), if a path leads to one.
+  const std::optional<Eigen::Vector2d>& goal_O() const { return goal_O_; }
+  /// The latest map (null before the first good cycle), in the frame of its cycle, T_O_L.
+  const std::shared_ptr<const planner::PlanningMap>& map() const { return map_; }
+  const Eigen::Isometry3d& map_T_O_L() const { return map_T_O_L_; }
+  /// The vehicle in the latest good map's frame L, at that cycle.
+  const Eigen::Isometry3d& map_T_L_B() const { return map_T_L_B_; }
+  /// Good maps so far (changes when a new map is made).
+  std::size_t map_count() const { return stats_.map_updates - stats_.map_failures; }
+  const MapBackend& map_backend() const { return *backend_; }
+  /// Route progress of the odometry pose, m.
+  double route_progress_m() const { return progress_m_; }
+  const std::vector<PlanAttempt>& plan_log() const { return plan_log_; }
+  const std::vector<CycleRecord>& cycles() const { return cycles_; }
+  /// Counters and stage timings.
+  NavigatorStats stats() const;
+  /// The effective configuration (geometry derived from the vehicle model).
+  const Config& config() const { return config_; }
+
+ private:
+  void MapCycle(double time_s, const Eigen::Isometry3d& T_O_B);
+  // Map-frame helpers of one cycle.
+  struct Cycle;
+  bool PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std::size_t* closest, std::size_t* blocked_index) const;
+  bool Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t blocked_index, CycleRecord* record);
+  void KeepValidPrefix(std::size_t closest, std::size_t blocked_index);
+
+  Config config_;
+  std::vector<Eigen::Vector2d> route_O_;
+  std::unique_ptr<MapBackend> backend_;
+  std::unique_ptr<PathPlanner> planner_;
+  std::unique_ptr<PathFollower> follower_;
+  PointCloudBuffer buffer_;
+
+  // Timing of the cycles (simulated or robot time).
+  double next_map_s_ = 0.0, next_control_s_ = 0.0;
+  controller::Command command_;
+  // Re-planning state.
+  planner::Path path_O_;
+  std::optional<Eigen::Vector2d> goal_O_;          // the local goal the current path leads to
+  std::optional<planner::LocalGoal> last_goal_O_;  // kept for the next goal selection
+  bool goal_is_route_end_ = false;
+  std::optional<double> last_plan_s_;
+  int blocked_updates_ = 0;                        // map cycles in a row that found the path blocked
+  double progress_m_ = 0.0;
+  // The latest map.
+  std::shared_ptr<const planner::PlanningMap> map_;
+  Eigen::Isometry3d map_T_O_L_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d map_T_L_B_ = Eigen::Isometry3d::Identity();
+  // Records.
+  NavigatorStats stats_;
+  std::vector<PlanAttempt> plan_log_;
+  std::vector<CycleRecord> cycles_;
+  StageTimer t_buffer_, t_mapper_, t_planner_, t_controller_;
+};
+
+/// The pose's planar part: position and the heading of its x axis.
+planner::Pose2 ToPose2(const Eigen::Isometry3d& T);
+
+}  // namespace ovpc::navigation

@@ -1,0 +1,143 @@
+#include "ovpc/navigation/map_preparation.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace ovpc::navigation {
+
+void MapPreparation::Config::Validate() const {
+  const auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
+  if (!(footprint_prior_margin_m >= 0.0) || footprint_prior_margin_m > 5.0) {
+    fail("preparation.footprint_prior_margin_m must be in [0, 5]");
+  }
+  if (!(footprint_prior_blend_m >= 0.0) || footprint_prior_blend_m > 5.0) {
+    fail("preparation.footprint_prior_blend_m must be in [0, 5]");
+  }
+  if (!(footprint_grid_m >= 0.05) || footprint_grid_m > 2.0) fail("preparation.footprint_grid_m must be in [0.05, 2]");
+  if (!(footprint_edge_band_m >= 0.0) || footprint_edge_band_m > 2.0) {
+    fail("preparation.footprint_edge_band_m must be in [0, 2]");
+  }
+  if (!(body_margin_m >= 0.0) || body_margin_m > 2.0) fail("preparation.body_margin_m must be in [0, 2]");
+  if (!(isolated_point_radius_m >= 0.0) || isolated_point_radius_m > 2.0) {
+    fail("preparation.isolated_point_radius_m must be in [0, 2]");
+  }
+  if (!(isolated_point_reach_m >= 0.0) || !std::isfinite(isolated_point_reach_m)) {
+    fail("preparation.isolated_point_reach_m must be >= 0");
+  }
+}
+
+void DropIsolatedPoints(double radius_m, double reach_m, Points* points_L) {
+  if (!(radius_m > 0.0) || points_L->empty()) return;
+  const double inv = 1.0 / radius_m;
+  const auto key = [inv](const Vec3& p) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x() * inv)),
+                                       static_cast<std::int64_t>(std::floor(p.y() * inv)),
+                                       static_cast<std::int64_t>(std::floor(p.z() * inv))};
+  };
+  struct KeyHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+      return static_cast<std::size_t>((static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL) ^
+                                      (static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL) ^
+                                      (static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL));
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::size_t>, KeyHash> cells;
+  cells.reserve(points_L->size());
+  for (std::size_t i = 0; i < points_L->size(); ++i) cells[key((*points_L)[i])].push_back(i);
+  const double r2 = radius_m * radius_m, reach2 = reach_m * reach_m;
+  std::vector<char> drop(points_L->size(), 0);
+  for (std::size_t i = 0; i < points_L->size(); ++i) {
+    const Vec3& p = (*points_L)[i];
+    if (p.squaredNorm() > reach2) continue;
+    const auto k = key(p);
+    bool neighbour = false;
+    for (int dx = -1; dx <= 1 && !neighbour; ++dx) {
+      for (int dy = -1; dy <= 1 && !neighbour; ++dy) {
+        for (int dz = -1; dz <= 1 && !neighbour; ++dz) {
+          const auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
+          if (it == cells.end()) continue;
+          for (std::size_t j : it->second) {
+            if (j != i && ((*points_L)[j] - p).squaredNorm() <= r2) {
+              neighbour = true;
+              break;
+            }
+          }
+        }
+      }
+    }
+    drop[i] = neighbour ? 0 : 1;
+  }
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < points_L->size(); ++i) {
+    if (!drop[i]) (*points_L)[out++] = (*points_L)[i];
+  }
+  points_L->resize(out);
+}
+
+// Measured points inside the vehicle's box (the body grown by the body margin, up to its top) are
+// dropped: returns off the vehicle itself on a real robot, outliers in simulation. A grid on the
+// footprint plane (z = 0 in B), over the footprint grown by the prior's margin, stands for the
+// ground. Low points (below the ground band in B), measured ground: with kReplace they are dropped
+// over the grown footprint plus the edge band and the grid is laid everywhere (mixing measured
+// ground with the grid would put noisy points a few centimetres from exact ones and make steep
+// slivers of faces); with kFill they stay, and a grid point is laid only where no low point lies
+// within the grid's spacing, so that a measured ramp ahead of the bumper is not cut off by the flat
+// grid, optionally blended to the measured height (Config::footprint_prior_blend_m).
+void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const FootprintBox& box, const MapPreparation::Config& config,
+                       Points* points_L) {
+  const double x0 = box.min_x_m, x1 = box.max_x_m;
+  const double y0 = -box.half_width_m, y1 = box.half_width_m;
+  const double margin_m = config.footprint_prior_margin_m, blend_m = config.footprint_prior_blend_m;
+  const double ground_band_m = box.ground_band_m, top_m = box.top_m, body_margin_m = box.body_margin_m;
+  const bool fill = config.footprint_prior_mode == MapPreparation::PriorMode::kFill;
+  const double kStep = config.footprint_grid_m;
+  const double reach = std::max(kStep, blend_m);
+  const double g = margin_m + config.footprint_edge_band_m;
+  const Eigen::Isometry3d T_B_L = T_L_B.inverse();
+  std::vector<Vec3> low_B;  // kFill: measured ground near the grid, in B
+  points_L->erase(std::remove_if(points_L->begin(), points_L->end(),
+                                 [&](const Vec3& p_L) {
+                                   const Vec3 p = T_B_L * p_L;
+                                   if (p.z() >= top_m) return false;
+                                   const bool low = p.z() < ground_band_m;
+                                   if (low && fill) {
+                                     if (p.x() >= x0 - margin_m - reach && p.x() <= x1 + margin_m + reach &&
+                                         p.y() >= y0 - margin_m - reach && p.y() <= y1 + margin_m + reach) {
+                                       low_B.push_back(p);
+                                     }
+                                     return false;
+                                   }
+                                   const double m = low ? g : body_margin_m;
+                                   return p.x() >= x0 - m && p.x() <= x1 + m && p.y() >= y0 - m && p.y() <= y1 + m;
+                                 }),
+                  points_L->end());
+  for (double x = x0 - margin_m; x <= x1 + margin_m + 1e-9; x += kStep) {
+    for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) {
+      // Nearest measured ground and, when blending, the inverse-distance mean height of that within
+      // `reach`.
+      double nearest_sq = std::numeric_limits<double>::infinity(), weight_sum = 0.0, z_sum = 0.0;
+      for (const Vec3& p : low_B) {
+        const double d_sq = (p.x() - x) * (p.x() - x) + (p.y() - y) * (p.y() - y);
+        nearest_sq = std::min(nearest_sq, d_sq);
+        if (blend_m > 0.0 && d_sq < reach * reach) {
+          const double w = 1.0 / (std::sqrt(d_sq) + 0.05);
+          weight_sum += w;
+          z_sum += w * p.z();
+        }
+      }
+      if (fill && nearest_sq < kStep * kStep) continue;  // measured ground right here
+      double z = 0.0;
+      if (fill && blend_m > 0.0 && weight_sum > 0.0) z = (1.0 - std::sqrt(nearest_sq) / reach) * z_sum / weight_sum;
+      points_L->push_back(T_L_B * Vec3(x, y, z));
+    }
+  }
+}
+
+}  // namespace ovpc::navigation

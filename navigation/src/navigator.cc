@@ -1,0 +1,343 @@
+#include "ovpc/navigation/navigator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace ovpc::navigation {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using planner::Pose2;
+
+double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// A path in another frame with the same axes (the map frame L and the odometry frame O differ by a
+// translation).
+planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
+  planner::Path out = path;
+  for (auto& seg : out.segments) {
+    for (auto& p : seg.poses) {
+      p.pose.x_m += offset.x();
+      p.pose.y_m += offset.y();
+      p.z_m += offset.z();
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+StageStats StageTimer::Stats() const {
+  StageStats s;
+  s.calls = samples_.size();
+  if (samples_.empty()) return s;
+  std::vector<double> v = samples_;
+  std::sort(v.begin(), v.end());
+  for (double x : v) s.total_ms += x;
+  s.mean_ms = s.total_ms / v.size();
+  s.median_ms = v[v.size() / 2];
+  s.p90_ms = v[std::min(v.size() - 1, v.size() * 9 / 10)];
+  s.max_ms = v.back();
+  return s;
+}
+
+Pose2 ToPose2(const Eigen::Isometry3d& T) {
+  const Vec3 x = T.linear().col(0);
+  return Pose2{T.translation().x(), T.translation().y(), planner::NormalizeYaw(std::atan2(x.y(), x.x()))};
+}
+
+void Navigator::Config::Validate() const {
+  const auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
+  if (!(map_rate_hz > 0.0) || !std::isfinite(map_rate_hz)) fail("navigator.map_rate_hz must be > 0");
+  if (!(control_rate_hz > 0.0) || !std::isfinite(control_rate_hz)) fail("navigator.control_rate_hz must be > 0");
+  if (goal_candidates < 1) fail("navigator.goal_candidates must be >= 1");
+  if (!std::isfinite(known_support_margin_m) || known_support_margin_m > 2.0) {
+    fail("navigator.known_support_margin_m must be at most 2 (negative disables)");
+  }
+  if (!(blocked_stop_short_m >= 0.0) || !std::isfinite(blocked_stop_short_m)) fail("navigator.blocked_stop_short_m must be >= 0");
+  if (!(min_prefix_m >= 0.0) || !std::isfinite(min_prefix_m)) fail("navigator.min_prefix_m must be >= 0");
+  if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0)) {
+    fail("navigator.progress_back_m must be >= 0 and progress_ahead_m > 0");
+  }
+  vehicle.Validate();
+  buffer.Validate();
+  preparation.Validate();
+  ovpc.Validate();
+  planner.Validate();
+  local_goal.Validate();
+  replan.Validate();
+  follower.Validate();
+}
+
+Navigator::Config Navigator::Config::Derived() const {
+  Config c = *this;
+  planner::VehicleBox& box = c.planner.vehicle;
+  box.length_m = vehicle.length_m;
+  box.width_m = vehicle.width_m;
+  box.height_m = vehicle.height_m;
+  box.centre_ahead_m = 0.5 * vehicle.length_m - vehicle.rear_overhang_m;
+  box.wheelbase_m = vehicle.wheelbase_m;
+  box.track_m = vehicle.track_m;
+  c.planner.turning_radius_m = vehicle.turning_radius_m;
+  c.follower.wheelbase_m = vehicle.wheelbase_m;
+  c.follower.max_steering_rad = vehicle.max_steering_rad;
+  return c;
+}
+
+Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins)
+    : config_(config.Derived()), route_O_(std::move(route_O)), buffer_(config_.buffer) {
+  config_.Validate();
+  if (route_O_.empty()) throw std::invalid_argument("navigator: the route needs at least one waypoint");
+  for (const auto& p : route_O_) {
+    if (!p.allFinite()) throw std::invalid_argument("navigator: a route waypoint is not finite");
+  }
+  backend_ = plugins.map ? std::move(plugins.map) : std::make_unique<OvpcMapBackend>(config_.ovpc);
+  planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner);
+  follower_ = plugins.follower ? std::move(plugins.follower) : std::make_unique<PurePursuitFollower>(config_.follower);
+  next_map_s_ = 1.0 / config_.map_rate_hz;
+  next_control_s_ = 0.0;
+}
+
+Navigator::~Navigator() = default;
+
+controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps) {
+  if (time_s + 1e-9 >= next_control_s_) {
+    next_control_s_ += 1.0 / config_.control_rate_hz;
+    const auto t = Clock::now();
+    command_ = follower_->has_path() ? follower_->Update(ToPose2(T_O_B), speed_mps) : controller::Command{0.0, 0.0, true};
+    t_controller_.Add(MsSince(t));
+  }
+  return command_;
+}
+
+void Navigator::AddScan(Scan scan) {
+  const auto t = Clock::now();
+  buffer_.Push(std::move(scan));
+  t_buffer_.Add(MsSince(t));
+}
+
+bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
+  progress_m_ = planner::RouteProgress(route_O_, T_O_B.translation().head<2>(), progress_m_, config_.progress_back_m,
+                                       config_.progress_ahead_m);
+  if (!(time_s + 1e-9 >= next_map_s_)) return false;
+  next_map_s_ += 1.0 / config_.map_rate_hz;
+  MapCycle(time_s, T_O_B);
+  return true;
+}
+
+// What one map cycle knows: the map, its frame and the vehicle in it.
+struct Navigator::Cycle {
+  double time_s = 0.0;
+  const planner::PlanningMap* map = nullptr;
+  Eigen::Isometry3d T_L_O = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();
+  Pose2 vehicle_L;
+  Vec3 L_to_O = Vec3::Zero();  // the translation of L in O
+};
+
+void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
+  CycleRecord record;
+  record.time_s = time_s;
+  auto t = Clock::now();
+  PointCloudBuffer::LocalCloud cloud = buffer_.Build();
+  const MapPreparation::Config& prep = config_.preparation;
+  DropIsolatedPoints(prep.isolated_point_radius_m, prep.isolated_point_reach_m, &cloud.points_L);
+  const planner::VehicleBox& box = config_.planner.vehicle;
+  if (prep.footprint_prior_margin_m > 0.0 && !cloud.points_L.empty()) {
+    FootprintBox footprint;
+    footprint.min_x_m = -config_.vehicle.rear_overhang_m;
+    footprint.max_x_m = config_.vehicle.length_m - config_.vehicle.rear_overhang_m;
+    footprint.half_width_m = config_.vehicle.width_m / 2;
+    footprint.body_margin_m = box.margin_m + prep.body_margin_m;
+    footprint.ground_band_m = box.ground_clearance_m;
+    footprint.top_m = box.height_m + box.margin_m + 0.05;
+    AddFootprintPrior(cloud.T_O_L.inverse() * T_O_B, footprint, prep, &cloud.points_L);
+  }
+  record.prepare_ms = MsSince(t);
+  t_buffer_.Add(record.prepare_ms);
+  record.cloud_points = cloud.points_L.size();
+
+  Cycle c;
+  c.time_s = time_s;
+  c.T_L_O = cloud.T_O_L.inverse();
+  c.T_L_B = c.T_L_O * T_O_B;
+  c.vehicle_L = ToPose2(c.T_L_B);
+  c.L_to_O = cloud.T_O_L.translation();
+  MapContext context;
+  context.T_L_B = c.T_L_B;
+  if (config_.known_support_margin_m >= 0.0) {
+    const double grow = config_.known_support_margin_m;
+    context.known_support.pose = c.vehicle_L;
+    context.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
+    context.known_support.max_x_m = box.centre_ahead_m + 0.5 * box.length_m + grow;
+    context.known_support.half_width_m = 0.5 * box.width_m + grow;
+  }
+  t = Clock::now();
+  std::shared_ptr<const planner::PlanningMap> map = backend_->Update(cloud.points_L, context);
+  record.map_ms = MsSince(t);
+  t_mapper_.Add(record.map_ms);
+  ++stats_.map_updates;
+  if (!map) {
+    ++stats_.map_failures;
+    cycles_.push_back(record);
+    return;
+  }
+  record.map_ok = true;
+  map_ = std::move(map);
+  map_T_O_L_ = cloud.T_O_L;
+  map_T_L_B_ = c.T_L_B;
+  c.map = map_.get();
+
+  t = Clock::now();
+  std::size_t closest = 0, blocked_index = 0;
+  const bool blocked = PathBlocked(c, T_O_B, &closest, &blocked_index);
+  planner::ReplanInputs in;
+  in.now_s = time_s;
+  in.last_plan_s = last_plan_s_;
+  in.has_path = follower_->has_path() && !follower_->done();
+  in.path_blocked = blocked;
+  blocked_updates_ = blocked ? blocked_updates_ + 1 : 0;
+  in.blocked_updates = blocked_updates_;
+  if (blocked) {
+    const planner::PathPose at = path_O_.Poses()[blocked_index];
+    in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - T_O_B.translation().head<2>()).norm();
+  }
+  in.distance_to_goal_m = goal_O_ ? (T_O_B.translation().head<2>() - *goal_O_).norm() : 0.0;
+  in.goal_is_route_end = goal_is_route_end_;
+  const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
+  if (reason != planner::ReplanReason::kNone) {
+    record.trigger = planner::ReplanReasonName(reason);
+    const bool found = Replan(c, reason, blocked, blocked_index, &record);
+    // The old path runs into something: drive only its valid part.
+    if (!found && blocked) KeepValidPrefix(closest, blocked_index);
+  }
+  record.plan_ms = MsSince(t);
+  t_planner_.Add(record.plan_ms);
+  cycles_.push_back(record);
+}
+
+bool Navigator::PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std::size_t* closest_out,
+                            std::size_t* blocked_index) const {
+  if (!follower_->has_path() || follower_->done()) return false;
+  // Poses already driven past do not count: check from the pose closest to the vehicle on.
+  const auto poses = path_O_.Poses();
+  std::size_t closest = 0;
+  double best = 1e300;
+  const Eigen::Vector2d v(T_O_B.translation().head<2>());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
+    if (d < best) best = d, closest = i;
+  }
+  *closest_out = closest;
+  const auto invalid = planner_->FirstInvalidPose(*c.map, Shifted(path_O_, -c.L_to_O), closest);
+  if (invalid) *blocked_index = *invalid;
+  return invalid.has_value();
+}
+
+bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t blocked_index,
+                       CycleRecord* cycle) {
+  const planner::VehicleBox& box = config_.planner.vehicle;
+  std::optional<planner::LocalGoal> previous_L;
+  if (last_goal_O_) {
+    previous_L = *last_goal_O_;
+    const Vec3 p_L = c.T_L_O * Vec3(last_goal_O_->pose.x_m, last_goal_O_->pose.y_m, 0.0);
+    previous_L->pose.x_m = p_L.x();
+    previous_L->pose.y_m = p_L.y();
+  }
+  const std::vector<planner::LocalGoal> goals =
+      planner::SelectLocalGoals(*c.map, box, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal, previous_L,
+                                static_cast<std::size_t>(config_.goal_candidates), progress_m_);
+  last_plan_s_ = c.time_s;
+  PlanAttempt record;
+  record.time_s = c.time_s;
+  record.reason = planner::ReplanReasonName(reason);
+  record.T_L_B = c.T_L_B;
+  record.vehicle_L = c.vehicle_L;
+  if (blocked) {
+    const planner::PathPose at = path_O_.Poses()[blocked_index];
+    const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
+    record.blocked_at_m = std::hypot(at_L.x_m - c.vehicle_L.x_m, at_L.y_m - c.vehicle_L.y_m);
+    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, box, at_L));
+  }
+  // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
+  bool found = false;
+  for (const planner::LocalGoal& goal : goals) {
+    ++stats_.plans;
+    // At the route's end only the position matters: heading straight there is a goal too.
+    std::vector<double> other_yaws;
+    if (goal.is_route_end && config_.route_end_any_heading) {
+      const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
+      if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
+    }
+    const planner::PlanResult plan = planner_->Plan(*c.map, c.vehicle_L, goal.pose, other_yaws);
+    std::string outcome = planner::PlanStatusName(plan.status);
+    if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
+    if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
+    ++stats_.plan_outcomes[outcome];
+    PlanAttempt attempt = record;
+    attempt.has_goal = true;
+    attempt.goal_L = goal.pose;
+    attempt.goal_progress_m = goal.route_progress_m;
+    attempt.outcome = outcome;
+    attempt.iterations = plan.iterations;
+    attempt.state_checks = plan.state_checks;
+    plan_log_.push_back(attempt);
+    cycle->outcome = outcome;
+    if (plan.found()) {
+      ++stats_.replans_found;
+      path_O_ = Shifted(plan.path, c.L_to_O);
+      follower_->Follow(path_O_);
+      blocked_updates_ = 0;  // a new path
+      goal_O_ = Eigen::Vector2d(goal.pose.x_m + c.L_to_O.x(), goal.pose.y_m + c.L_to_O.y());
+      goal_is_route_end_ = goal.is_route_end;
+      last_goal_O_ = goal;
+      last_goal_O_->pose.x_m = goal_O_->x();
+      last_goal_O_->pose.y_m = goal_O_->y();
+      found = true;
+      break;
+    }
+    // A start the planner rejects is rejected for every goal.
+    if (plan.status == planner::PlanStatus::kStartInvalid) break;
+  }
+  if (goals.empty()) {
+    ++stats_.plan_outcomes["no_local_goal"];
+    record.outcome = "no_local_goal";
+    plan_log_.push_back(record);
+    cycle->outcome = record.outcome;
+  }
+  if (!found) last_goal_O_.reset();  // no path to it: do not hold on to it
+  return found;
+}
+
+// A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to
+// `blocked_stop_short_m` before it, or stand still if that is where the vehicle is.
+void Navigator::KeepValidPrefix(std::size_t closest, std::size_t blocked_index) {
+  const auto poses = path_O_.Poses();
+  std::size_t last = blocked_index;
+  double back = 0.0;
+  while (last > closest && back < config_.blocked_stop_short_m) {
+    back += std::hypot(poses[last].pose.x_m - poses[last - 1].pose.x_m, poses[last].pose.y_m - poses[last - 1].pose.y_m);
+    --last;
+  }
+  planner::Path prefix = back >= config_.blocked_stop_short_m ? path_O_.Slice(closest, last) : planner::Path{};
+  if (prefix.empty() || prefix.Length() < config_.min_prefix_m) {
+    follower_->Clear();
+    return;
+  }
+  path_O_ = std::move(prefix);
+  follower_->Follow(path_O_);
+}
+
+NavigatorStats Navigator::stats() const {
+  NavigatorStats s = stats_;
+  s.buffer = t_buffer_.Stats();
+  s.mapper = t_mapper_.Stats();
+  s.planner = t_planner_.Stats();
+  s.controller = t_controller_.Stats();
+  return s;
+}
+
+}  // namespace ovpc::navigation

@@ -1,0 +1,45 @@
+// The recorder: what a run leaves for a user to look at, sampled in simulated time — trajectory
+// rows, the planner's calls in the world frame, the mapped points, mesh snapshots and frames.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "ovpc/navigation/navigator.h"
+#include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/scenario.h"
+#include "ovpc/sim/renderer.h"
+#include "ovpc/sim/simulator.h"
+
+namespace ovpc::scenarios {
+
+class Recorder {
+ public:
+  /// @param result where the records go (trajectory, plan_log, map_points, files).
+  Recorder(const Scenario& scenario, const RunOptions& options, const sim::Simulator& sim, RunResult* result);
+  ~Recorder();
+
+  /// A trajectory row when one is due (`now_s`: the step's start; the row carries `time_s`, after it).
+  void Trajectory(double now_s, double time_s, const sim::Simulator& sim, const controller::Command& command);
+  /// After a map cycle: the plans it made and the map it built, in the world frame by the truth now.
+  void MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const navigation::Navigator& navigator);
+  /// A chase-camera frame when one is due (RunOptions::frames).
+  void Frame(double time_s, const sim::Simulator& sim, const navigation::Navigator& navigator);
+
+ private:
+  const Scenario& scenario_;
+  const RunOptions& options_;
+  RunResult* result_;
+  std::unique_ptr<sim::Renderer> renderer_;
+  double next_record_s_ = 0.0, next_snapshot_s_ = 0.0, next_frame_s_ = 0.0;
+  int snapshot_index_ = 0;
+  std::size_t plans_seen_ = 0, maps_seen_ = 0;
+  // The latest map's points and where its frame was in the world, for frames.
+  std::vector<Vec3> frame_points_L_;
+  std::vector<std::uint8_t> frame_traversable_;
+  Eigen::Isometry3d frame_T_W_L_ = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace ovpc::scenarios

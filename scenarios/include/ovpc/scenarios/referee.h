@@ -1,0 +1,46 @@
+// The referee: scores a run against the scenario's criteria from the truth (the simulator's poses
+// and contacts), never from what the robot believes.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/scenario.h"
+#include "ovpc/sim/gator.h"
+#include "ovpc/sim/simulator.h"
+
+namespace ovpc::scenarios {
+
+class Referee {
+ public:
+  /// @param T_W_B the true pose at the start.
+  Referee(const Scenario& scenario, const sim::GatorParams& vehicle, const Eigen::Isometry3d& T_W_B);
+
+  /// Takes the truth after a physics step: distance, roll and pitch, route progress, body contacts
+  /// and forbidden regions.
+  void Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::vector<sim::BodyContact>& contacts);
+  /// True (and the goal time kept) when the true pose is inside the goal region.
+  bool GoalReached(double time_s, const Eigen::Isometry3d& T_W_B);
+  /// The run ends at the route's end (scenarios without a goal region): that is its goal time.
+  void RouteEndReached(double time_s) { goal_time_s_ = time_s; }
+
+  /// Fills the criteria, `passed`, distance, route progress and collisions of `result`.
+  void Score(RunResult* result) const;
+
+ private:
+  const Scenario& scenario_;
+  const sim::GatorParams& vehicle_;
+  Eigen::Vector3d last_position_;
+  double distance_m_ = 0.0, max_roll_deg_ = 0.0, max_pitch_deg_ = 0.0;
+  double progress_m_ = 0.0, best_progress_m_ = 0.0;
+  std::size_t collision_steps_ = 0;
+  std::vector<std::string> collisions_;
+  std::vector<bool> region_entered_;
+  std::optional<double> goal_time_s_;
+};
+
+}  // namespace ovpc::scenarios

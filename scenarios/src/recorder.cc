@@ -1,0 +1,114 @@
+#include "ovpc/scenarios/recorder.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "ovpc/core/cloud_io.h"
+#include "ovpc/sim/image.h"
+
+namespace ovpc::scenarios {
+namespace {
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+// x, y and heading of a planar pose of frame L in the world frame.
+Eigen::Vector3d ToWorld(const Eigen::Isometry3d& T_W_L, const planner::Pose2& p) {
+  const Vec3 p_W = T_W_L * Vec3(p.x_m, p.y_m, 0.0);
+  const Vec3 x_axis = T_W_L.linear() * Vec3(std::cos(p.yaw_rad), std::sin(p.yaw_rad), 0.0);
+  return Eigen::Vector3d(p_W.x(), p_W.y(), std::atan2(x_axis.y(), x_axis.x()));
+}
+
+}  // namespace
+
+Recorder::Recorder(const Scenario& scenario, const RunOptions& options, const sim::Simulator& sim, RunResult* result)
+    : scenario_(scenario), options_(options), result_(result), next_snapshot_s_(scenario.record.mesh_snapshot_period_s) {
+  if (options.frames) renderer_ = std::make_unique<sim::Renderer>(sim);
+  if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir);
+}
+
+Recorder::~Recorder() = default;
+
+void Recorder::Trajectory(double now_s, double time_s, const sim::Simulator& sim, const controller::Command& command) {
+  if (!(now_s + 1e-9 >= next_record_s_)) return;
+  next_record_s_ += 1.0 / scenario_.record.record_rate_hz;
+  result_->trajectory.push_back(
+      {time_s, sim.T_W_B(), sim.T_O_B(), sim.forward_speed_mps(), command.steering_rad, command.speed_mps});
+}
+
+void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const navigation::Navigator& navigator) {
+  // The planner's calls of this cycle, placed in the world by the truth now.
+  const auto& log = navigator.plan_log();
+  for (; plans_seen_ < log.size(); ++plans_seen_) {
+    const navigation::PlanAttempt& a = log[plans_seen_];
+    const Eigen::Isometry3d T_W_L = T_W_B * a.T_L_B.inverse();
+    PlanRecord r;
+    r.time_s = a.time_s;
+    r.reason = a.reason;
+    r.blocked_at_m = a.blocked_at_m;
+    r.blocked_by = a.blocked_by;
+    r.vehicle_W = ToWorld(T_W_L, a.vehicle_L);
+    r.has_goal = a.has_goal;
+    if (a.has_goal) r.goal_W = ToWorld(T_W_L, a.goal_L);
+    r.goal_progress_m = a.goal_progress_m;
+    r.outcome = a.outcome;
+    r.iterations = a.iterations;
+    r.state_checks = a.state_checks;
+    result_->plan_log.push_back(r);
+  }
+  if (navigator.map_count() == maps_seen_) return;  // no new map this cycle
+  maps_seen_ = navigator.map_count();
+  const navigation::MapView view = navigator.map_backend().View();
+  if (!view.points_L) return;
+  const Eigen::Isometry3d T_W_L = T_W_B * (navigator.map_T_L_B().inverse());
+  const auto& pts = *view.points_L;
+  for (std::size_t i = 0; i < pts.size(); i += 7) result_->map_points.push_back({T_W_L * pts[i], (*view.traversable)[i] != 0});
+  if (renderer_) {
+    frame_points_L_ = pts;
+    frame_traversable_ = *view.traversable;
+    frame_T_W_L_ = T_W_L;
+  }
+  const double period = scenario_.record.mesh_snapshot_period_s;
+  if (!options_.out_dir.empty() && view.mesh_L && period > 0 && time_s + 1e-9 >= next_snapshot_s_) {
+    next_snapshot_s_ += period;
+    FreeSpaceMesh mesh_W = *view.mesh_L;
+    for (Vec3& v : mesh_W.vertices) v = T_W_L * v;
+    std::ostringstream name;
+    name << "mesh_" << std::setw(3) << std::setfill('0') << snapshot_index_++ << "_t" << Fixed(time_s, 1) << ".ply";
+    const std::string file = (std::filesystem::path(options_.out_dir) / name.str()).string();
+    std::vector<Vec3> normals_W = view.normals_L ? *view.normals_L : std::vector<Vec3>{};
+    for (Vec3& n : normals_W) n = T_W_L.linear() * n;
+    WriteMeshPly(file, mesh_W, normals_W);
+    result_->files.push_back(file);
+  }
+}
+
+void Recorder::Frame(double time_s, const sim::Simulator& sim, const navigation::Navigator& navigator) {
+  if (!renderer_ || !(time_s + 1e-9 >= next_frame_s_)) return;
+  next_frame_s_ += options_.frame_period_s;
+  sim::Overlay overlay;
+  for (std::size_t i = 0; i < frame_points_L_.size(); i += 2) {
+    const bool trav = frame_traversable_[i] != 0;
+    overlay.points.push_back({frame_T_W_L_ * frame_points_L_[i],
+                              trav ? sim::Rgba{0.1f, 0.8f, 0.1f, 1.0f} : sim::Rgba{0.9f, 0.1f, 0.1f, 1.0f}});
+  }
+  if (navigator.has_path()) {
+    sim::Overlay::Polyline line;
+    const Eigen::Isometry3d T_W_O = sim.T_W_B() * sim.T_O_B().inverse();
+    for (const auto& p : navigator.path_O().Poses()) line.vertices_W.push_back(T_W_O * Vec3(p.pose.x_m, p.pose.y_m, p.z_m + 0.1));
+    overlay.polylines.push_back(line);
+  }
+  const sim::Image image = renderer_->Render(sim::ChaseCamera{}, overlay);
+  std::ostringstream name;
+  name << "frame_" << std::setw(5) << std::setfill('0') << static_cast<int>(std::lround(time_s * 100)) << ".png";
+  const std::string file = (std::filesystem::path(options_.out_dir) / name.str()).string();
+  sim::WritePng(image, file);
+  result_->files.push_back(file);
+}
+
+}  // namespace ovpc::scenarios

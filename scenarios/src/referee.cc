@@ -1,0 +1,118 @@
+#include "ovpc/scenarios/referee.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "ovpc/planner/local_goal.h"
+
+namespace ovpc::scenarios {
+namespace {
+
+// Route progress of the true pose is tracked in a window that moves with the vehicle, so that a
+// route passing near itself (laps side by side) is not scored as done when the vehicle cuts across.
+constexpr double kProgressBackM = 5.0, kProgressAheadM = 10.0;
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+void RollPitchDeg(const Eigen::Isometry3d& T, double* roll_deg, double* pitch_deg) {
+  const Eigen::Matrix3d& R = T.linear();
+  *pitch_deg = RadToDeg(std::asin(std::clamp(-R(2, 0), -1.0, 1.0)));
+  *roll_deg = RadToDeg(std::atan2(R(2, 1), R(2, 2)));
+}
+
+// Does the vehicle footprint at the true pose touch the region? Checked on a grid of footprint points.
+bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const Region& r) {
+  const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
+  for (int i = 0; i <= 4; ++i) {
+    for (int j = 0; j <= 2; ++j) {
+      const Vec3 p_B(x0 + (x1 - x0) * i / 4.0, -v.width_m / 2 + v.width_m * j / 2.0, 0.0);
+      const Vec3 p = T_W_B * p_B;
+      if (p.x() >= r.min_m.x() && p.x() <= r.max_m.x() && p.y() >= r.min_m.y() && p.y() <= r.max_m.y()) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+Referee::Referee(const Scenario& scenario, const sim::GatorParams& vehicle, const Eigen::Isometry3d& T_W_B)
+    : scenario_(scenario),
+      vehicle_(vehicle),
+      last_position_(T_W_B.translation()),
+      region_entered_(scenario.criteria.forbidden.size(), false) {}
+
+void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::vector<sim::BodyContact>& contacts) {
+  distance_m_ += (T_W_B.translation() - last_position_).norm();
+  last_position_ = T_W_B.translation();
+  double roll, pitch;
+  RollPitchDeg(T_W_B, &roll, &pitch);
+  max_roll_deg_ = std::max(max_roll_deg_, std::abs(roll));
+  max_pitch_deg_ = std::max(max_pitch_deg_, std::abs(pitch));
+  const Eigen::Vector2d xy = T_W_B.translation().head<2>();
+  progress_m_ = planner::RouteProgress(scenario_.route_m, xy, progress_m_, kProgressBackM, kProgressAheadM);
+  best_progress_m_ = std::max(best_progress_m_, progress_m_);
+  if (!contacts.empty()) {
+    ++collision_steps_;
+    if (collisions_.size() < 5) {
+      collisions_.push_back("t=" + Fixed(time_s, 2) + " s: " + contacts.front().vehicle_geom + " touched " +
+                            contacts.front().world_geom);
+    }
+  }
+  for (std::size_t i = 0; i < region_entered_.size(); ++i) {
+    if (!region_entered_[i] && FootprintInRegion(T_W_B, vehicle_, scenario_.criteria.forbidden[i])) region_entered_[i] = true;
+  }
+}
+
+bool Referee::GoalReached(double time_s, const Eigen::Isometry3d& T_W_B) {
+  const Criteria& c = scenario_.criteria;
+  if (!c.goal_m || (T_W_B.translation().head<2>() - *c.goal_m).norm() > c.goal_radius_m) return false;
+  goal_time_s_ = time_s;
+  return true;
+}
+
+void Referee::Score(RunResult* result) const {
+  result->distance_m = distance_m_;
+  result->route_progress_m = best_progress_m_;
+  result->collision_steps = collision_steps_;
+  result->collisions = collisions_;
+  const Criteria& c = scenario_.criteria;
+  auto add = [&](std::string name, std::string expected, std::string actual, bool passed) {
+    result->criteria.push_back({std::move(name), std::move(expected), std::move(actual), passed});
+  };
+  if (c.goal_m) {
+    const double d = (Eigen::Vector2d(last_position_.head<2>()) - *c.goal_m).norm();
+    add("goal_reached", "within " + Fixed(c.goal_radius_m, 1) + " m of (" + Fixed(c.goal_m->x(), 1) + ", " + Fixed(c.goal_m->y(), 1) + ")",
+        goal_time_s_ ? "at t=" + Fixed(*goal_time_s_, 1) + " s" : "no, " + Fixed(d, 1) + " m away", goal_time_s_.has_value());
+  }
+  if (c.no_collision) {
+    add("no_collision", "0 body contacts", collision_steps_ == 0 ? "none" : collisions_.front(), collision_steps_ == 0);
+  }
+  if (c.max_roll_deg) {
+    add("max_roll", "<= " + Fixed(*c.max_roll_deg, 1) + " deg", Fixed(max_roll_deg_, 1) + " deg", max_roll_deg_ <= *c.max_roll_deg);
+  }
+  if (c.max_pitch_deg) {
+    add("max_pitch", "<= " + Fixed(*c.max_pitch_deg, 1) + " deg", Fixed(max_pitch_deg_, 1) + " deg",
+        max_pitch_deg_ <= *c.max_pitch_deg);
+  }
+  if (c.max_time_s) {
+    add("completion_time", "<= " + Fixed(*c.max_time_s, 0) + " s", goal_time_s_ ? Fixed(*goal_time_s_, 1) + " s" : "not completed",
+        goal_time_s_ && *goal_time_s_ <= *c.max_time_s);
+  }
+  if (c.min_progress_m) {
+    add("min_progress", ">= " + Fixed(*c.min_progress_m, 1) + " m", Fixed(best_progress_m_, 1) + " m",
+        best_progress_m_ >= *c.min_progress_m);
+  }
+  for (std::size_t i = 0; i < c.forbidden.size(); ++i) {
+    add("never_enter:" + c.forbidden[i].name, "never entered", region_entered_[i] ? "entered" : "never entered",
+        !region_entered_[i]);
+  }
+  result->passed = std::all_of(result->criteria.begin(), result->criteria.end(), [](const CriterionResult& r) { return r.passed; });
+}
+
+}  // namespace ovpc::scenarios
