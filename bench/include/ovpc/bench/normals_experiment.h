@@ -1,7 +1,7 @@
 // The paper's normal-estimation experiment ("Evaluation in simulation"): a flat ground and an
 // inclined plane of slope alpha, sampled as five noisy, misaligned clouds bundled into one, and
 // the angular error of estimated normals against the true normal of the surface each point was
-// sampled from. The protocol's figures are in ../shared/REFERENCE.md; the choices the paper leaves
+// sampled from. The protocol's figures are in docs/REFERENCE.md; the choices the paper leaves
 // open are named below and in docs/PAPER_REPRODUCTION.md.
 #pragma once
 

@@ -13,8 +13,8 @@ namespace ovpc::controller {
 class BicycleModel {
  public:
   struct Config {
-    double wheelbase_m = 1.9;                      ///< Gator TE (assumption, REFERENCE.md)
-    double max_steering_rad = DegToRad(30.0);      ///< assumption, REFERENCE.md
+    double wheelbase_m = 1.9;                      ///< Gator TE (assumption, docs/REFERENCE.md)
+    double max_steering_rad = DegToRad(30.0);      ///< assumption, docs/REFERENCE.md
     double max_steering_rate_radps = DegToRad(60.0);
     double max_accel_mps2 = 1.0;                   ///< also the braking limit
     /// @throws std::invalid_argument naming the offending field.

@@ -31,8 +31,8 @@ namespace ovpc::controller {
 class PurePursuit {
  public:
   struct Config {
-    double wheelbase_m = 1.9;                  ///< Gator TE (assumption, REFERENCE.md)
-    double max_steering_rad = DegToRad(30.0);  ///< assumption, REFERENCE.md
+    double wheelbase_m = 1.9;                  ///< Gator TE (assumption, docs/REFERENCE.md)
+    double max_steering_rad = DegToRad(30.0);  ///< assumption, docs/REFERENCE.md
     double target_speed_mps = 1.0;             ///< paper
     double reverse_speed_mps = 0.5;            ///< backwards more carefully (assumption)
     double creep_speed_mps = 0.1;              ///< least speed while a stop is not reached

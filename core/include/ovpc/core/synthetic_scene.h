@@ -1,6 +1,6 @@
 // Analytic outdoor scenes and a VLP-16 on a tilted spinning base, for tests, benchmarks and the
 // bundled sample cloud. The closed-loop simulator casts rays with Embree instead; the beam pattern
-// and mount kinematics here are the same facts (see ../shared/REFERENCE.md).
+// and mount kinematics here are the same facts (see docs/REFERENCE.md).
 #pragma once
 
 #include <array>

@@ -48,7 +48,7 @@ class LocalPlanner {
   struct Config {
     VehicleBox vehicle;
     /// Reeds-Shepp turning radius of the rear axle centre. 3.7 m: half the Gator's 7.3 m turning
-    /// circle (REFERENCE.md).
+    /// circle (docs/REFERENCE.md).
     double turning_radius_m = 3.7;
     /// Planning budget in RRTConnect iterations, replacing the paper's 0.1 s: a plan that finds no
     /// path spends about 0.1 s of CPU time on 500 iterations on the benchmark's scenes

@@ -12,7 +12,7 @@ namespace ovpc::planner {
 
 /// The vehicle as the collision check sees it: an oriented box around the body and the sensor mast.
 /// Dimensions are those of the paper's John Deere Gator TE (length, width, mast height and the rear
-/// axle position are assumptions, see ../shared/REFERENCE.md).
+/// axle position are assumptions, see docs/REFERENCE.md).
 struct VehicleBox {
   double length_m = 2.8;
   double width_m = 1.5;

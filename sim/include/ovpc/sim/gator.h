@@ -17,7 +17,7 @@
 namespace ovpc::sim {
 
 struct GatorParams {
-  // Published figure (../shared/REFERENCE.md): top speed 24 km/h.
+  // Published figure (docs/REFERENCE.md): top speed 24 km/h.
   double max_speed_mps = 24.0 / 3.6;
 
   // Assumptions (no published figure found); change them here.
