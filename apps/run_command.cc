@@ -20,6 +20,8 @@ Runner RegisterRun(CLI::App& app) {
     CLI::Option* seed_opt = nullptr;
     std::string out = "out/run";
     std::vector<std::string> settings;
+    std::string preset;
+    bool print_config = false;
     bool frames = false;
     bool quiet = false;
   };
@@ -32,17 +34,27 @@ Runner RegisterRun(CLI::App& app) {
   cmd->add_option("scenario", o->scenario, "Scenario file (scenarios/*.yaml)")->required();
   o->seed_opt = cmd->add_option("--seed", o->seed, "Seed for every random source (default: the scenario's)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
-  cmd->add_option("--set", o->settings, "Override a scenario value: dotted.key=value (repeatable), e.g. params.mapper.gamma=-0.02");
+  cmd->add_option("--set", o->settings,
+                  "Override a scenario value: dotted.key=value (repeatable), e.g. navigator.ovpc.mapper.ghpr.gamma=-0.02");
+  cmd->add_option("--preset", o->preset,
+                  "The robot's configuration to start from (default: the built-in navigation/presets/default.yaml)");
+  cmd->add_flag("--print-config", o->print_config,
+                "Print the run's effective configuration (navigator and record, preset form) and exit");
   cmd->add_flag("--frames", o->frames, "Render chase-camera PNG frames (EGL, CPU; slow)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
   return [o]() {
     scenarios::Scenario scenario;
     try {
-      scenario = scenarios::LoadScenario(o->scenario, o->settings);
+      const scenarios::Preset preset = o->preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o->preset);
+      scenario = scenarios::LoadScenario(o->scenario, o->settings, preset);
     } catch (const scenarios::ScenarioError& e) {
       throw BadInput(e.what());
     }
     const std::uint64_t seed = o->seed_opt->count() ? o->seed : scenario.seed;
+    if (o->print_config) {
+      std::cout << scenarios::FormatRunConfig(scenario, seed);
+      return kExitOk;
+    }
     scenarios::RunOptions options;
     options.out_dir = o->out;
     options.frames = o->frames;

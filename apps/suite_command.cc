@@ -66,7 +66,7 @@ std::vector<std::vector<std::string>> SweepCombinations(const std::vector<std::s
   for (const std::string& sweep : sweeps) {
     const std::size_t eq = sweep.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 >= sweep.size()) {
-      throw BadInput("--sweep '" + sweep + "' must be key=v1,v2,... (e.g. params.controller.lookahead_gain_s=0.3,0.5)");
+      throw BadInput("--sweep '" + sweep + "' must be key=v1,v2,... (e.g. navigator.follower.lookahead_gain_s=0.3,0.5)");
     }
     const std::string key = sweep.substr(0, eq);
     std::vector<std::string> values;
@@ -111,6 +111,7 @@ Runner RegisterSuite(CLI::App& app) {
     int first_seed = 1;
     std::vector<std::string> sweeps;
     std::vector<std::string> skip_labels;
+    std::string preset;
     std::string out = "out/suite";
   };
   auto o = std::make_shared<Options>();
@@ -125,6 +126,7 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--first-seed", o->first_seed, "First seed F (e.g. 4 with --seeds 3: seeds 4, 5, 6)")->capture_default_str();
   cmd->add_option("--sweep", o->sweeps, "key=v1,v2,...: run every combination of values (repeatable)");
   cmd->add_option("--skip-label", o->skip_labels, "Leave out scenarios with this label (e.g. long)");
+  cmd->add_option("--preset", o->preset, "The robot's configuration for every run (default: the built-in one)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   return [o]() {
     if (o->jobs < 1) throw BadInput("--jobs must be >= 1");
@@ -146,11 +148,17 @@ Runner RegisterSuite(CLI::App& app) {
       }
     }
     const auto combos = SweepCombinations(o->sweeps);
+    scenarios::Preset preset;
+    try {
+      preset = o->preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o->preset);
+    } catch (const scenarios::ScenarioError& e) {
+      throw BadInput(e.what());
+    }
     std::vector<Job> jobs;
     for (const std::string& file : files) {
       scenarios::Scenario s;
       try {
-        s = scenarios::LoadScenario(file, combos.front());
+        s = scenarios::LoadScenario(file, combos.front(), preset);
       } catch (const scenarios::ScenarioError& e) {
         throw BadInput(e.what());
       }
@@ -187,6 +195,10 @@ Runner RegisterSuite(CLI::App& app) {
         Job& job = jobs[next];
         fs::create_directories(job.out_dir);
         std::vector<std::string> args = {self, "run", job.file, "--seed", std::to_string(job.seed), "--out", job.out_dir, "-q"};
+        if (!o->preset.empty()) {
+          args.push_back("--preset");
+          args.push_back(o->preset);
+        }
         for (const auto& kv : job.settings) {
           args.push_back("--set");
           args.push_back(kv);

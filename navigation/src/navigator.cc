@@ -83,7 +83,7 @@ Navigator::Config Navigator::Config::Derived() const {
   box.track_m = vehicle.track_m;
   c.planner.turning_radius_m = vehicle.turning_radius_m;
   c.follower.wheelbase_m = vehicle.wheelbase_m;
-  c.follower.max_steering_rad = vehicle.max_steering_rad;
+  c.follower.max_steering_rad = DegToRad(vehicle.max_steering_deg);
   return c;
 }
 

@@ -21,17 +21,6 @@ double RouteLength(const std::vector<Eigen::Vector2d>& route) {
   return s;
 }
 
-// The robot knows its own geometry: that of the simulated vehicle.
-navigation::VehicleModel VehicleModelOf(const sim::GatorParams& v, navigation::VehicleModel model) {
-  model.length_m = v.length_m;
-  model.width_m = v.width_m;
-  model.rear_overhang_m = v.rear_overhang_m;
-  model.wheelbase_m = v.wheelbase_m;
-  model.track_m = v.track_m;
-  model.max_steering_rad = DegToRad(v.max_steer_deg);
-  return model;
-}
-
 void CopyStats(const navigation::Navigator& nav, RunResult* result) {
   const navigation::NavigatorStats s = nav.stats();
   result->map_updates = s.map_updates;
@@ -49,7 +38,6 @@ void CopyStats(const navigation::Navigator& nav, RunResult* result) {
 
 navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed) {
   navigation::Navigator::Config config = scenario.navigator;
-  config.vehicle = VehicleModelOf(scenario.sim.vehicle, config.vehicle);
   config.planner.seed = static_cast<std::uint32_t>(seed);
   return config.Derived();
 }

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "config_yaml.h"
 #include "ovpc/sim/image.h"
 #include "ovpc/sim/terrain.h"
 #include "ovpc/sim/world.h"
@@ -56,6 +57,16 @@ class Canvas {
   double x0_, y1_, scale_;
   sim::Image image_;
 };
+
+// The run's effective configuration, as --print-config prints it.
+nlohmann::json RunConfigJson(const Scenario& scenario, std::uint64_t seed) {
+  navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
+  internal::JsonWriter writer;
+  navigation::VisitFields(writer, navigator);
+  return {{"navigator", writer.json()},
+          {"record", {{"record_rate_hz", scenario.record.record_rate_hz},
+                      {"mesh_snapshot_period_s", scenario.record.mesh_snapshot_period_s}}}};
+}
 
 }  // namespace
 
@@ -109,6 +120,7 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
       {"collision_steps", r.collision_steps},
       {"collisions", r.collisions},
       {"files", r.files},
+      {"config", RunConfigJson(scenario, r.seed)},
       {"timing", {{"physics_lidar", StageJson(r.physics_lidar)},
                   {"buffer", StageJson(r.buffer)},
                   {"ovpc_update", StageJson(r.mapper)},

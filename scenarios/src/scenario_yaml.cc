@@ -1,6 +1,7 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <set>
@@ -9,113 +10,16 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "config_yaml.h"
+#include "ovpc/scenarios/closed_loop.h"
+
 namespace ovpc::scenarios {
 namespace {
 
-std::string Where(const std::string& file, const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  if (mark.line < 0) return file + " (--set)";
-  return file + ":" + std::to_string(mark.line + 1);
-}
+using internal::ConfigReader;
+using internal::MapReader;
+using internal::Where;
 
-template <class T>
-const char* TypeName() {
-  if constexpr (std::is_same_v<T, bool>) return "true or false";
-  else if constexpr (std::is_integral_v<T>) return "a whole number";
-  else if constexpr (std::is_floating_point_v<T>) return "a number";
-  else return "a string";
-}
-
-// Reads one YAML map: every key it is asked for is marked used, and Finish() reports the rest as
-// unknown. Errors name the file, the line and the dotted key.
-class MapReader {
- public:
-  MapReader(const YAML::Node& node, std::string context, const std::string& file)
-      : node_(node), context_(std::move(context)), file_(file) {
-    if (!node_.IsMap()) Fail(node_, "'" + context_ + "' must be a mapping of keys to values");
-  }
-
-  template <class T>
-  void Get(const char* key, T* out) {
-    const YAML::Node value = Take(key);
-    if (value) *out = Convert<T>(value, key);
-  }
-  template <class T>
-  void GetOptional(const char* key, std::optional<T>* out) {
-    const YAML::Node value = Take(key);
-    if (value) *out = Convert<T>(value, key);
-  }
-  template <class T>
-  void Required(const char* key, T* out) {
-    const YAML::Node value = Take(key);
-    if (!value) Fail(node_, "'" + Key(key) + "' is required");
-    *out = Convert<T>(value, key);
-  }
-  /// A key whose value is one of `choices` (name, value); anything else fails naming them.
-  template <class T>
-  void GetChoice(const char* key, std::initializer_list<std::pair<const char*, T>> choices, T* out) {
-    const YAML::Node value = Take(key);
-    if (!value) return;
-    const std::string text = value.IsScalar() ? value.Scalar() : "";
-    std::string names;
-    for (const auto& [name, choice] : choices) {
-      if (text == name) {
-        *out = choice;
-        return;
-      }
-      names += (names.empty() ? "" : " or ") + std::string(name);
-    }
-    Fail(value, "'" + Key(key) + "' must be " + names + ", got '" + text + "'");
-  }
-  void GetDegrees(const char* key, double* out_rad) {
-    const YAML::Node value = Take(key);
-    if (value) *out_rad = DegToRad(Convert<double>(value, key));
-  }
-  Eigen::Vector2d GetXY(const YAML::Node& value, const std::string& key) const {
-    if (!value.IsSequence() || value.size() != 2) Fail(value, "'" + key + "' must be [x, y]");
-    return Eigen::Vector2d(ConvertAt<double>(value[0], key), ConvertAt<double>(value[1], key));
-  }
-  YAML::Node Child(const char* key) { return Take(key); }
-  std::string Key(const char* key) const { return context_.empty() ? key : context_ + "." + key; }
-  const std::string& file() const { return file_; }
-
-  void Finish() const {
-    for (const auto& kv : node_) {
-      const std::string key = kv.first.as<std::string>();
-      if (!used_.count(key)) Fail(kv.first, "unknown key '" + Key(key.c_str()) + "'");
-    }
-  }
-
-  [[noreturn]] void Fail(const YAML::Node& at, const std::string& what) const {
-    throw ScenarioError(Where(file_, at) + ": " + what);
-  }
-
-  template <class T>
-  T ConvertAt(const YAML::Node& value, const std::string& key) const {
-    if (!value.IsScalar()) Fail(value, "'" + key + "' must be " + TypeName<T>());
-    try {
-      return value.as<T>();
-    } catch (const YAML::BadConversion&) {
-      Fail(value, "'" + key + "' must be " + TypeName<T>() + ", got '" + value.Scalar() + "'");
-    }
-  }
-
- private:
-  YAML::Node Take(const char* key) {
-    used_.insert(key);
-    const YAML::Node& node = node_;  // const lookup never inserts the key
-    return node[key];
-  }
-  template <class T>
-  T Convert(const YAML::Node& value, const char* key) const {
-    return ConvertAt<T>(value, Key(key));
-  }
-
-  YAML::Node node_;
-  std::string context_;
-  const std::string& file_;
-  std::set<std::string> used_;
-};
 
 void ReadTerrain(MapReader r, sim::TerrainConfig* t) {
   std::string kind = "flat";
@@ -231,103 +135,22 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
   }
 }
 
-void ReadParams(MapReader r, Scenario* s) {
-  if (const YAML::Node n = r.Child("mapper")) {
-    MapReader m(n, r.Key("mapper"), r.file());
-    std::string kernel = KernelName(s->navigator.ovpc.mapper.ghpr.kernel);
-    m.Get("kernel", &kernel);
-    try {
-      s->navigator.ovpc.mapper.ghpr.kernel = ParseKernel(kernel);
-    } catch (const std::invalid_argument& e) {
-      m.Fail(m.Child("kernel"), e.what());
-    }
-    m.Get("gamma", &s->navigator.ovpc.mapper.ghpr.gamma);
-    m.GetDegrees("alpha_max_deg", &s->navigator.ovpc.mapper.traversability.alpha_max_rad);
-    m.Get("dh_max_m", &s->navigator.ovpc.mapper.traversability.delta_h_max_m);
-    m.Get("noise_floor_m", &s->navigator.ovpc.mapper.traversability.noise_floor_m);
-    m.Get("noise_floor_on_slopes", &s->navigator.ovpc.mapper.traversability.noise_floor_on_slopes);
-    m.Finish();
-  }
-  if (const YAML::Node n = r.Child("buffer")) {
-    MapReader m(n, r.Key("buffer"), r.file());
-    m.Get("scans", &s->navigator.buffer.max_scans);
-    m.Get("crop_radius_m", &s->navigator.buffer.crop_radius_m);
-    m.Get("voxel_m", &s->navigator.buffer.voxel_size_m);
-    m.Get("min_hits", &s->navigator.buffer.min_hits);
-    m.Get("max_points", &s->navigator.buffer.max_points);
-    m.Finish();
-  }
-  if (const YAML::Node n = r.Child("planner")) {
-    MapReader m(n, r.Key("planner"), r.file());
-    m.Get("turning_radius_m", &s->navigator.planner.turning_radius_m);
-    m.Get("max_iterations", &s->navigator.planner.max_iterations);
-    m.Get("range_m", &s->navigator.planner.range_m);
-    m.Get("check_resolution_m", &s->navigator.planner.check_resolution_m);
-    m.Get("margin_m", &s->navigator.planner.vehicle.margin_m);
-    m.Get("vehicle_height_m", &s->navigator.planner.vehicle.height_m);
-    m.Get("ground_clearance_m", &s->navigator.planner.vehicle.ground_clearance_m);
-    m.GetChoice("footprint_check",
-                {{"all_points", planner::VehicleBox::FootprintCheck::kAllPoints},
-                 {"wheels", planner::VehicleBox::FootprintCheck::kWheels}},
-                &s->navigator.planner.vehicle.footprint_check);
-    m.Get("wheel_support_m", &s->navigator.planner.vehicle.wheel_support_m);
-    m.GetChoice("placement",
-                {{"nearest_point", planner::VehicleBox::Placement::kNearestPoint},
-                 {"wheel_contacts", planner::VehicleBox::Placement::kWheelContacts}},
-                &s->navigator.planner.vehicle.placement);
-    m.Get("max_tilt_deg", &s->navigator.planner.vehicle.max_tilt_deg);
-    m.Get("max_roll_deg", &s->navigator.planner.vehicle.max_roll_deg);
-    m.Get("goal_min_distance_m", &s->navigator.local_goal.min_distance_m);
-    m.Get("goal_keep_within_m", &s->navigator.local_goal.keep_previous_within_m);
-    m.Get("goal_max_gap_m", &s->navigator.local_goal.max_gap_m);
-    m.Get("goal_max_ahead_m", &s->navigator.local_goal.max_ahead_m);
-    m.Get("goal_end_zone_m", &s->navigator.local_goal.end_zone_m);
-    m.GetChoice("goal_mode",
-                {{"route", planner::LocalGoalConfig::Mode::kRoute}, {"reachable", planner::LocalGoalConfig::Mode::kReachable}},
-                &s->navigator.local_goal.mode);
-    m.Get("goal_cell_m", &s->navigator.local_goal.cell_m);
-    m.Get("goal_reach_offset_penalty", &s->navigator.local_goal.reach_offset_penalty);
-    m.Get("goal_reach_support_m", &s->navigator.local_goal.reach_support_m);
-    m.Get("goal_offset_penalty", &s->navigator.local_goal.lateral_offset_penalty);
-    m.Get("replan_period_s", &s->navigator.replan.period_s);
-    m.Get("goal_too_close_m", &s->navigator.replan.goal_too_close_m);
-    m.Get("blocked_confirmations", &s->navigator.replan.blocked_confirmations);
-    m.Get("blocked_near_m", &s->navigator.replan.blocked_near_m);
-    m.Get("max_projection_distance_m", &s->navigator.ovpc.map.max_projection_distance_m);
-    m.Get("normal_neighbours", &s->navigator.ovpc.map.normal_neighbours);
-    m.Get("normal_radius_m", &s->navigator.ovpc.map.normal_radius_m);
-    m.Finish();
-  }
-  if (const YAML::Node n = r.Child("controller")) {
-    MapReader m(n, r.Key("controller"), r.file());
-    m.Get("target_speed_mps", &s->navigator.follower.target_speed_mps);
-    m.Get("reverse_speed_mps", &s->navigator.follower.reverse_speed_mps);
-    m.Get("lookahead_gain_s", &s->navigator.follower.lookahead_gain_s);
-    m.Get("lookahead_min_m", &s->navigator.follower.lookahead_min_m);
-    m.Get("lookahead_max_m", &s->navigator.follower.lookahead_max_m);
-    m.Get("max_lateral_accel_mps2", &s->navigator.follower.max_lateral_accel_mps2);
-    m.Finish();
-  }
-  if (const YAML::Node n = r.Child("loop")) {
-    MapReader m(n, r.Key("loop"), r.file());
-    m.Get("map_rate_hz", &s->navigator.map_rate_hz);
-    m.Get("control_rate_hz", &s->navigator.control_rate_hz);
-    m.Get("record_rate_hz", &s->record.record_rate_hz);
-    m.Get("mesh_snapshot_period_s", &s->record.mesh_snapshot_period_s);
-    m.Get("footprint_prior_margin_m", &s->navigator.preparation.footprint_prior_margin_m);
-    m.Get("footprint_prior_blend_m", &s->navigator.preparation.footprint_prior_blend_m);
-    m.Get("known_support_margin_m", &s->navigator.known_support_margin_m);
-    m.Get("route_end_any_heading", &s->navigator.route_end_any_heading);
-    m.Get("isolated_point_radius_m", &s->navigator.preparation.isolated_point_radius_m);
-    m.Get("isolated_point_reach_m", &s->navigator.preparation.isolated_point_reach_m);
-    m.Get("goal_candidates", &s->navigator.goal_candidates);
-    m.GetChoice("footprint_prior_mode",
-                {{"replace", navigation::MapPreparation::PriorMode::kReplace},
-                 {"fill", navigation::MapPreparation::PriorMode::kFill}},
-                &s->navigator.preparation.footprint_prior_mode);
-    m.Finish();
-  }
+void ReadRecord(MapReader r, RecordConfig* c) {
+  r.Get("record_rate_hz", &c->record_rate_hz);
+  r.Get("mesh_snapshot_period_s", &c->mesh_snapshot_period_s);
   r.Finish();
+}
+
+// The robot's configuration and the recording settings from a root map (a preset, or a scenario's
+// navigator: and record: sections over the preset).
+void ReadNavigatorAndRecord(MapReader& r, Scenario* s) {
+  if (const YAML::Node n = r.Child("navigator")) {
+    MapReader m(n, "navigator", r.file());
+    ConfigReader reader(m);
+    navigation::VisitFields(reader, s->navigator);
+    m.Finish();
+  }
+  if (const YAML::Node n = r.Child("record")) ReadRecord(MapReader(n, "record", r.file()), &s->record);
 }
 
 void ReadCriteria(MapReader r, Criteria* c) {
@@ -367,7 +190,7 @@ void ReadCriteria(MapReader r, Criteria* c) {
 void ApplySetting(YAML::Node root, const std::string& setting, const std::string& file) {
   const std::size_t eq = setting.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw ScenarioError(file + ": --set '" + setting + "' must be key=value (e.g. params.mapper.gamma=-0.02)");
+    throw ScenarioError(file + ": --set '" + setting + "' must be key=value (e.g. navigator.ovpc.mapper.ghpr.gamma=-0.02)");
   }
   const std::string key = setting.substr(0, eq);
   YAML::Node value;
@@ -413,7 +236,42 @@ void Scenario::Validate() const {
   navigator.Validate();
 }
 
-Scenario ParseScenario(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings) {
+Preset LoadPreset(const std::string& path) {
+  std::ifstream in(path);
+  if (!in || std::filesystem::is_directory(path)) throw ScenarioError(path + ": cannot open the preset file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return Preset{text.str(), path};
+}
+
+namespace {
+
+void ApplyPreset(const Preset& preset, Scenario* s) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(preset.yaml);
+  } catch (const YAML::ParserException& e) {
+    throw ScenarioError(preset.file + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  }
+  if (!root.IsMap()) throw ScenarioError(preset.file + ": a preset must be a mapping with 'navigator' and 'record'");
+  MapReader r(root, "", preset.file);
+  ReadNavigatorAndRecord(r, s);
+  r.Finish();
+}
+
+}  // namespace
+
+std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed) {
+  navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
+  RecordConfig record = scenario.record;
+  internal::YamlWriter nav(2);
+  navigation::VisitFields(nav, navigator);
+  return "navigator:\n" + nav.str() + "record:\n  record_rate_hz: " + internal::FormatNumber(record.record_rate_hz) +
+         "\n  mesh_snapshot_period_s: " + internal::FormatNumber(record.mesh_snapshot_period_s) + "\n";
+}
+
+Scenario ParseScenario(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings,
+                       const Preset& preset) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -425,27 +283,7 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
 
   Scenario s;
   s.path = file;
-  // Closed-loop default: the simulated VLP-16's 1.5 cm range noise makes ground slivers look steep.
-  s.navigator.ovpc.mapper.traversability.noise_floor_m = 0.05;
-  // Closed-loop defaults for the local goal: nearer goals and side offsets keep the vehicle moving
-  // when the route runs through the shadow of a post (see docs/CLOSED_LOOP.md).
-  s.navigator.local_goal.min_distance_m = 2.5;
-  s.navigator.local_goal.lateral_offsets_m = {1.5, 3.0, 4.5, 6.0};
-  s.navigator.local_goal.keep_previous_within_m = 1.0;
-  s.navigator.local_goal.max_gap_m = 8.0;
-  // The last metre of the route counts as its end (noise can make the last waypoint's pose fail).
-  s.navigator.local_goal.end_zone_m = 1.0;
-  // Short tree extensions: with OMPL's default (a fifth of the map's extent, ~8 m) nearly every
-  // extension among posts and shadows fails its motion check (docs/CLOSED_LOOP.md).
-  s.navigator.planner.range_m = 1.0;
-  // The wheels' footprint rule (docs/CLOSED_LOOP.md), with the Gator's axles.
-  s.navigator.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
-  // The box on the nearest point's tangent plane (the paper's rule); the slope scenarios set
-  // placement: wheel_contacts, which broke low_roof_1p6 as a suite-wide default (docs/CLOSED_LOOP.md).
-  s.navigator.planner.vehicle.placement = planner::VehicleBox::Placement::kNearestPoint;
-  // That tangent plane from the 32 nearest points within 0.5 m rather than one vertex normal, which
-  // range noise tilts enough to put flat ground into the box (docs/CLOSED_LOOP.md).
-  s.navigator.ovpc.map.normal_neighbours = 32;
+  ApplyPreset(preset, &s);
   MapReader r(root, "", file);
   r.Required("name", &s.name);
   r.Get("description", &s.description);
@@ -501,7 +339,11 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
     }
     m.Finish();
   }
-  if (const YAML::Node n = r.Child("params")) ReadParams(MapReader(n, "params", file), &s);
+  if (const YAML::Node n = r.Child("params")) {
+    r.Fail(n, "'params' is gone: the robot's settings are under 'navigator', with the keys of "
+              "navigation/presets/default.yaml (ovpc run --print-config shows them)");
+  }
+  ReadNavigatorAndRecord(r, &s);
   if (const YAML::Node n = r.Child("criteria")) ReadCriteria(MapReader(n, "criteria", file), &s.criteria);
   r.Finish();
   try {
@@ -512,12 +354,12 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
   return s;
 }
 
-Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings) {
+Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings, const Preset& preset) {
   std::ifstream in(path);
   if (!in) throw ScenarioError(path + ": cannot open the scenario file");
   std::stringstream text;
   text << in.rdbuf();
-  return ParseScenario(text.str(), path, settings);
+  return ParseScenario(text.str(), path, settings, preset);
 }
 
 }  // namespace ovpc::scenarios

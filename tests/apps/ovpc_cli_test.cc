@@ -165,10 +165,10 @@ TEST_F(CliTest, BundledSampleCloudMeshes) {
 // --first-seed, in two parallel processes; a run that cannot make its deadline fails the suite.
 TEST_F(CliTest, SuiteRunsTheSweepAndSeedsAndWritesJUnitAndSummary) {
   WriteText("short.yaml", testing::kShortFlatScenario);
-  const RunResult r = Run("suite " + Path("short.yaml") + " --jobs 2 --seeds 2 --first-seed 4 --sweep params.controller.target_speed_mps=1.5,2.0 --out " +
+  const RunResult r = Run("suite " + Path("short.yaml") + " --jobs 2 --seeds 2 --first-seed 4 --sweep navigator.follower.target_speed_mps=1.5,2.0 --out " +
                           Path("suite"));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-  for (const char* settings : {"short_flat__params.controller.target_speed_mps=1.5", "short_flat__params.controller.target_speed_mps=2.0"}) {
+  for (const char* settings : {"short_flat__navigator.follower.target_speed_mps=1.5", "short_flat__navigator.follower.target_speed_mps=2.0"}) {
     for (const char* seed : {"seed_4", "seed_5"}) {
       EXPECT_TRUE(fs::exists(fs::path(Path("suite")) / settings / seed / "result.json")) << settings << " " << seed;
     }

@@ -14,9 +14,9 @@ objects:
   - carport: {x_m: 6.0, y_m: 0.0, roof_height_m: 2.5}
   - sphere: {x_m: 3.0, y_m: 4.0, radius_m: 0.5}
 route: [[0, 0], [10, 0]]
-params:
-  mapper: {gamma: -0.02, alpha_max_deg: 25}
-  buffer: {scans: 20}
+navigator:
+  ovpc: {mapper: {ghpr: {gamma: -0.02}, traversability: {alpha_max_rad: 0.4363323129985824}}}
+  buffer: {max_scans: 20}
 criteria:
   goal: {x_m: 10, y_m: 0, radius_m: 1.0}
   max_pitch_deg: 12
@@ -53,15 +53,15 @@ TEST(ScenarioYamlTest, ReadsEverySection) {
 }
 
 TEST(ScenarioYamlTest, SettingsOverrideValues) {
-  const Scenario s = ParseScenario(kMinimal, "test.yaml", {"params.mapper.gamma=-0.01", "time_limit_s=9"});
+  const Scenario s = ParseScenario(kMinimal, "test.yaml", {"navigator.ovpc.mapper.ghpr.gamma=-0.01", "time_limit_s=9"});
   EXPECT_DOUBLE_EQ(s.navigator.ovpc.mapper.ghpr.gamma, -0.01);
   EXPECT_DOUBLE_EQ(s.time_limit_s, 9.0);
 }
 
 TEST(ScenarioYamlTest, UnknownKeysAndWrongTypesNameFileLineAndKey) {
   std::string bad = kMinimal;
-  bad.replace(bad.find("scans"), 5, "scanz");
-  EXPECT_EQ(ErrorOf(bad).rfind("test.yaml:10: unknown key 'params.buffer.scanz'", 0), 0u) << ErrorOf(bad);
+  bad.replace(bad.find("max_scans"), 9, "max_scanz");
+  EXPECT_EQ(ErrorOf(bad).rfind("test.yaml:10: unknown key 'navigator.buffer.max_scanz'", 0), 0u) << ErrorOf(bad);
 
   bad = kMinimal;
   bad.replace(bad.find("time_limit_s: 5") + 14, 1, "soon");
@@ -78,14 +78,14 @@ TEST(ScenarioYamlTest, UnknownKeysAndWrongTypesNameFileLineAndKey) {
 
   EXPECT_NE(ErrorOf("name: x\ntime_limit_s: 3\n").find("'route' is required"), std::string::npos);
   EXPECT_NE(ErrorOf("name: [unclosed\n").find("not valid YAML"), std::string::npos);
-  EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gamma=0.5"}).find("gamma"), std::string::npos);
+  EXPECT_NE(ErrorOf(kMinimal, {"navigator.ovpc.mapper.ghpr.gamma=0.5"}).find("gamma"), std::string::npos);
   EXPECT_NE(ErrorOf(kMinimal, {"nonsense"}).find("key=value"), std::string::npos);
-  EXPECT_NE(ErrorOf(kMinimal, {"params.loop.footprint_prior_blend_m=-0.5"}).find("footprint_prior_blend_m"),
+  EXPECT_NE(ErrorOf(kMinimal, {"navigator.preparation.footprint_prior_blend_m=-0.5"}).find("footprint_prior_blend_m"),
             std::string::npos);
-  EXPECT_DOUBLE_EQ(ParseScenario(kMinimal, "test.yaml", {"params.loop.footprint_prior_blend_m=0.75"})
+  EXPECT_DOUBLE_EQ(ParseScenario(kMinimal, "test.yaml", {"navigator.preparation.footprint_prior_blend_m=0.75"})
                        .navigator.preparation.footprint_prior_blend_m,
                    0.75);
-  EXPECT_NE(ErrorOf(kMinimal, {"params.mapper.gammma=-0.1"}).find("unknown key 'params.mapper.gammma'"),
+  EXPECT_NE(ErrorOf(kMinimal, {"navigator.ovpc.mapper.ghpr.gammma=-0.1"}).find("unknown key 'navigator.ovpc.mapper.ghpr.gammma'"),
             std::string::npos);
 }
 

@@ -1,6 +1,7 @@
 // Kinematic bicycle model of an Ackermann vehicle, for tests and quick closed-loop checks.
 #pragma once
 
+#include "ovpc/core/vehicle_model.h"
 #include "ovpc/controller/command.h"
 #include "ovpc/core/types.h"
 #include "ovpc/planner/path.h"
@@ -13,8 +14,8 @@ namespace ovpc::controller {
 class BicycleModel {
  public:
   struct Config {
-    double wheelbase_m = 1.9;                      ///< Gator TE (assumption, docs/REFERENCE.md)
-    double max_steering_rad = DegToRad(30.0);      ///< assumption, docs/REFERENCE.md
+    double wheelbase_m = VehicleModel{}.wheelbase_m;
+    double max_steering_rad = DegToRad(VehicleModel{}.max_steering_deg);
     double max_steering_rate_radps = DegToRad(60.0);
     double max_accel_mps2 = 1.0;                   ///< also the braking limit
     /// @throws std::invalid_argument naming the offending field.

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "ovpc/core/vehicle_model.h"
 #include "ovpc/controller/command.h"
 #include "ovpc/core/types.h"
 #include "ovpc/planner/path.h"
@@ -31,8 +32,8 @@ namespace ovpc::controller {
 class PurePursuit {
  public:
   struct Config {
-    double wheelbase_m = 1.9;                  ///< Gator TE (assumption, docs/REFERENCE.md)
-    double max_steering_rad = DegToRad(30.0);  ///< assumption, docs/REFERENCE.md
+    double wheelbase_m = VehicleModel{}.wheelbase_m;
+    double max_steering_rad = DegToRad(VehicleModel{}.max_steering_deg);
     double target_speed_mps = 1.0;             ///< paper
     double reverse_speed_mps = 0.5;            ///< backwards more carefully (assumption)
     double creep_speed_mps = 0.1;              ///< least speed while a stop is not reached

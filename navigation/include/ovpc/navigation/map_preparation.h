@@ -6,7 +6,6 @@
 #include <Eigen/Geometry>
 
 #include "ovpc/core/types.h"
-#include "ovpc/navigation/vehicle_model.h"
 
 namespace ovpc::navigation {
 

@@ -20,7 +20,7 @@
 #include "ovpc/navigation/map_preparation.h"
 #include "ovpc/navigation/path_follower.h"
 #include "ovpc/navigation/path_planner.h"
-#include "ovpc/navigation/vehicle_model.h"
+#include "ovpc/core/vehicle_model.h"
 #include "ovpc/planner/local_goal.h"
 #include "ovpc/planner/local_planner.h"
 #include "ovpc/planner/replan.h"

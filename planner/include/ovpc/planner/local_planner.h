@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "ovpc/core/vehicle_model.h"
 #include "ovpc/planner/path.h"
 #include "ovpc/planner/planning_map.h"
 
@@ -49,7 +50,7 @@ class LocalPlanner {
     VehicleBox vehicle;
     /// Reeds-Shepp turning radius of the rear axle centre. 3.7 m: half the Gator's 7.3 m turning
     /// circle (docs/REFERENCE.md).
-    double turning_radius_m = 3.7;
+    double turning_radius_m = VehicleModel{}.turning_radius_m;
     /// Planning budget in RRTConnect iterations, replacing the paper's 0.1 s: a plan that finds no
     /// path spends about 0.1 s of CPU time on 500 iterations on the benchmark's scenes
     /// (bench/planner_bench.cc), while plans that succeed need a median of 10 to 30.

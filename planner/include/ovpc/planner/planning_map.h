@@ -6,20 +6,22 @@
 
 #include <Eigen/Geometry>
 
+#include "ovpc/core/vehicle_model.h"
 #include "ovpc/planner/path.h"
 
 namespace ovpc::planner {
 
 /// The vehicle as the collision check sees it: an oriented box around the body and the sensor mast.
-/// Dimensions are those of the paper's John Deere Gator TE (length, width, mast height and the rear
-/// axle position are assumptions, see docs/REFERENCE.md).
+/// Its dimensions default to the vehicle model's (ovpc/core/vehicle_model.h, the paper's Gator TE);
+/// navigation::Navigator derives them from its own VehicleModel.
 struct VehicleBox {
-  double length_m = 2.8;
-  double width_m = 1.5;
-  double height_m = 2.2;             ///< ground to the top of the sensor mast
+  double length_m = VehicleModel{}.length_m;
+  double width_m = VehicleModel{}.width_m;
+  double height_m = VehicleModel{}.height_m;  ///< ground to the top of the sensor mast
   double margin_m = 0.1;             ///< added to every side and to the top
   double ground_clearance_m = 0.2;   ///< the box bottom, above the ground at the pose
-  double centre_ahead_m = 0.95;      ///< box centre ahead of the pose origin (the rear axle)
+  /// Box centre ahead of the pose origin (the rear axle).
+  double centre_ahead_m = 0.5 * VehicleModel{}.length_m - VehicleModel{}.rear_overhang_m;
   double footprint_depth_m = 0.5;    ///< non-traversable points down to this depth below the ground
                                      ///< under the footprint also block the pose (kAllPoints)
   /// What must hold for the ground under the box, below the ground clearance.
@@ -29,8 +31,8 @@ struct VehicleBox {
                  ///< point; low non-traversable points between the wheels pass under the chassis
   };
   FootprintCheck footprint_check = FootprintCheck::kAllPoints;
-  double wheelbase_m = 1.9;          ///< front axle ahead of the pose origin (kWheels)
-  double track_m = 1.2;              ///< wheel centre to wheel centre across (kWheels)
+  double wheelbase_m = VehicleModel{}.wheelbase_m;  ///< front axle ahead of the pose origin (kWheels)
+  double track_m = VehicleModel{}.track_m;  ///< wheel centre to wheel centre across (kWheels)
   double wheel_support_m = 0.5;      ///< farthest a wheel may be from its nearest visible point (kWheels)
   /// How the box is placed on the ground.
   enum class Placement {

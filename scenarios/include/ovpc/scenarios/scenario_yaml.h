@@ -2,6 +2,7 @@
 #pragma once
 
 #include <stdexcept>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,13 +17,32 @@ class ScenarioError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Reads a scenario file. `settings` are "dotted.key=value" overrides applied to the YAML before it
-/// is read (`ovpc run --set`, `ovpc suite --sweep`), e.g. "params.mapper.gamma=-0.02".
-/// @throws ScenarioError.
-Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings = {});
+/// The robot's configuration a scenario starts from: YAML with a `navigator:` section (the keys of
+/// navigation::VisitFields) and a `record:` section, and the file name that errors give.
+struct Preset {
+  std::string yaml;
+  std::string file;
+};
+
+/// navigation/presets/default.yaml, the closed-loop defaults, as built into the program.
+Preset DefaultPreset();
+/// A preset file (a copy of the default one, edited).
+/// @throws ScenarioError if it cannot be read.
+Preset LoadPreset(const std::string& path);
+
+/// Reads a scenario file over `preset`. `settings` are "dotted.key=value" overrides applied to the
+/// scenario's YAML before it is read (`ovpc run --set`, `ovpc suite --sweep`), e.g.
+/// "navigator.ovpc.mapper.ghpr.gamma=-0.02".
+/// @throws ScenarioError (a malformed scenario or preset).
+Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings = {},
+                      const Preset& preset = DefaultPreset());
 
 /// The same from YAML text (tests); `name_for_errors` stands for the file in messages.
 Scenario ParseScenario(const std::string& yaml_text, const std::string& name_for_errors,
-                       const std::vector<std::string>& settings = {});
+                       const std::vector<std::string>& settings = {}, const Preset& preset = DefaultPreset());
+
+/// The effective configuration of a run of `scenario` with `seed` as YAML (`navigator:` and
+/// `record:`, the preset's form): what `ovpc run --print-config` prints; a valid preset itself.
+std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed);
 
 }  // namespace ovpc::scenarios

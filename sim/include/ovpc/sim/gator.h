@@ -13,6 +13,7 @@
 
 #include "ovpc/core/synthetic_scene.h"
 #include "ovpc/core/types.h"
+#include "ovpc/core/vehicle_model.h"
 
 namespace ovpc::sim {
 
@@ -20,17 +21,19 @@ struct GatorParams {
   // Published figure (docs/REFERENCE.md): top speed 24 km/h.
   double max_speed_mps = 24.0 / 3.6;
 
+  // The body's geometry: the vehicle model's (ovpc/core/vehicle_model.h), stated there once.
+  double length_m = VehicleModel{}.length_m;
+  double width_m = VehicleModel{}.width_m;
+  double wheelbase_m = VehicleModel{}.wheelbase_m;
+  double track_m = VehicleModel{}.track_m;
+  double max_steer_deg = VehicleModel{}.max_steering_deg;  ///< bicycle-model angle at the front axle's centre
+  double rear_overhang_m = VehicleModel{}.rear_overhang_m;  ///< body behind the rear axle
+
   // Assumptions (no published figure found); change them here.
-  double length_m = 2.8;
-  double width_m = 1.5;
-  double wheelbase_m = 1.9;
-  double track_m = 1.2;
   double wheel_radius_m = 0.3;
   double wheel_width_m = 0.25;
   double mass_kg = 600.0;             ///< curb mass, wheels included
   double wheel_mass_kg = 20.0;
-  double max_steer_deg = 30.0;        ///< bicycle-model angle at the front axle's centre
-  double rear_overhang_m = 0.45;      ///< body behind the rear axle
   double ground_clearance_m = 0.25;   ///< underside of the frame
   double body_top_m = 1.0;            ///< cargo bed and hood height
   double rops_height_m = 1.95;        ///< top of the roll-over frame over the seats
