@@ -105,7 +105,8 @@ Navigator::~Navigator() = default;
 
 controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps) {
   if (time_s + 1e-9 >= next_control_s_) {
-    next_control_s_ += 1.0 / config_.control_rate_hz;
+    // The next tick after this one (a caller that fell behind is not run once per missed tick).
+    while (time_s + 1e-9 >= next_control_s_) next_control_s_ += 1.0 / config_.control_rate_hz;
     const auto t = Clock::now();
     command_ = follower_->has_path() ? follower_->Update(ToPose2(T_O_B), speed_mps) : controller::Command{0.0, 0.0, true};
     t_controller_.Add(MsSince(t));
@@ -123,7 +124,7 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   progress_m_ = planner::RouteProgress(route_O_, T_O_B.translation().head<2>(), progress_m_, config_.progress_back_m,
                                        config_.progress_ahead_m);
   if (!(time_s + 1e-9 >= next_map_s_)) return false;
-  next_map_s_ += 1.0 / config_.map_rate_hz;
+  while (time_s + 1e-9 >= next_map_s_) next_map_s_ += 1.0 / config_.map_rate_hz;
   MapCycle(time_s, T_O_B);
   return true;
 }

@@ -56,8 +56,9 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   sim_config.odometry.seed = seed * 1000003ULL + 2;
   sim::Simulator sim(sim_config);
   // The route is given in the world frame, which is the odometry frame when the run starts.
-  navigation::Navigator nav(NavigatorConfigFor(scenario, seed), scenario.route_m,
-                            options.plugins ? std::move(*options.plugins) : navigation::Navigator::Plugins{});
+  const navigation::Navigator::Config nav_config = NavigatorConfigFor(scenario, seed);
+  navigation::Navigator nav(nav_config, scenario.route_m,
+                            options.make_plugins ? options.make_plugins(nav_config) : navigation::Navigator::Plugins{});
   Referee referee(scenario, sim_config.vehicle, sim.T_W_B());
   Recorder recorder(scenario, options, sim, &result);
   navigation::StageTimer t_physics;

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -79,8 +80,9 @@ struct RunResult {
 };
 
 struct RunOptions {
-  /// Plug-ins for the robot's stack (null: the navigator's defaults). Consumed by one run.
-  navigation::Navigator::Plugins* plugins = nullptr;
+  /// Plug-ins for the robot's stack, made for each run from its effective configuration: a user's
+  /// own map backend, planner or follower. Unset, or a null plug-in: the navigator's default.
+  std::function<navigation::Navigator::Plugins(const navigation::Navigator::Config&)> make_plugins;
   std::string out_dir;    ///< mesh snapshots and frames go here ("" writes none)
   bool frames = false;    ///< rendered chase-camera PNG frames (needs EGL)
   double frame_period_s = 0.5;

@@ -1,0 +1,198 @@
+// The Navigator on generated scans (the analytic scene and the paper's spinning VLP-16): one cycle
+// maps, plans and drives; the seams take a user's map backend, planner and follower.
+#include "ovpc/navigation/navigator.h"
+
+#include <memory>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "ovpc/core/synthetic_scene.h"
+
+namespace ovpc::navigation {
+namespace {
+
+using planner::Pose2;
+
+// 25 scans (1.25 s) of a vehicle standing at the origin of flat ground, heading +x.
+std::vector<Scan> FlatGroundScans(std::uint64_t seed) {
+  synth::Scene scene;
+  scene.cylinders.push_back({Vec3(9.0, 3.0, 0.0), 0.2, 2.0});
+  return synth::SimulateScans(scene, synth::SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, seed);
+}
+
+// The settings a flat-ground run needs beyond the library defaults (as in the default preset).
+Navigator::Config FlatConfig() {
+  Navigator::Config config;
+  config.ovpc.mapper.traversability.noise_floor_m = 0.05;
+  config.ovpc.map.normal_neighbours = 32;
+  config.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
+  config.planner.range_m = 1.0;
+  config.local_goal.min_distance_m = 2.5;
+  return config;
+}
+
+// Feeds the scans and runs the first map cycle (due at 1 / map_rate_hz).
+void FirstCycle(Navigator* nav, std::vector<Scan> scans) {
+  const Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
+  for (Scan& s : scans) nav->AddScan(std::move(s));
+  EXPECT_FALSE(nav->Update(0.1, T_O_B)) << "no map cycle before 1 / map_rate_hz";
+  EXPECT_TRUE(nav->Update(0.2, T_O_B));
+}
+
+TEST(NavigatorTest, OneCycleMapsPlansAheadAndSetsOff) {
+  Navigator nav(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}});
+  const controller::Command before = nav.Control(0.0, Eigen::Isometry3d::Identity(), 0.0);
+  EXPECT_TRUE(before.done) << "no path yet: stand";
+  EXPECT_EQ(before.speed_mps, 0.0);
+  FirstCycle(&nav, FlatGroundScans(1));
+
+  ASSERT_EQ(nav.cycles().size(), 1u);
+  EXPECT_TRUE(nav.cycles()[0].map_ok);
+  EXPECT_EQ(nav.cycles()[0].trigger, "no path");
+  EXPECT_EQ(nav.cycles()[0].outcome, "found");
+  ASSERT_NE(nav.map(), nullptr);
+  EXPECT_TRUE(nav.has_path());
+  ASSERT_TRUE(nav.goal_O().has_value());
+  EXPECT_GT(nav.goal_O()->x(), 2.5) << "the local goal lies ahead on the route";
+  EXPECT_NEAR(nav.goal_O()->y(), 0.0, 6.0 + 1e-9);
+  const auto poses = nav.path_O().Poses();
+  ASSERT_GE(poses.size(), 2u);
+  EXPECT_NEAR(poses.front().pose.x_m, 0.0, 1e-6);
+  EXPECT_NEAR((Eigen::Vector2d(poses.back().pose.x_m, poses.back().pose.y_m) - *nav.goal_O()).norm(), 0.0, 0.05);
+  EXPECT_EQ(nav.stats().map_updates, 1u);
+  EXPECT_EQ(nav.stats().replans_found, 1u);
+
+  // The next control tick follows the path: forward, not done.
+  const controller::Command cmd = nav.Control(0.2, Eigen::Isometry3d::Identity(), 0.0);
+  EXPECT_FALSE(cmd.done);
+  EXPECT_GE(cmd.speed_mps, 0.0);
+  // The map's points are there to look at.
+  const MapView view = nav.map_backend().View();
+  ASSERT_NE(view.points_L, nullptr);
+  EXPECT_GT(view.points_L->size(), 1000u);
+  ASSERT_NE(view.mesh_L, nullptr);
+}
+
+TEST(NavigatorTest, SameInputsGiveTheSamePath) {
+  Navigator a(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}}), b(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}});
+  FirstCycle(&a, FlatGroundScans(3));
+  FirstCycle(&b, FlatGroundScans(3));
+  const auto pa = a.path_O().Poses(), pb = b.path_O().Poses();
+  ASSERT_EQ(pa.size(), pb.size());
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    EXPECT_EQ(pa[i].pose.x_m, pb[i].pose.x_m);
+    EXPECT_EQ(pa[i].pose.y_m, pb[i].pose.y_m);
+    EXPECT_EQ(pa[i].pose.yaw_rad, pb[i].pose.yaw_rad);
+  }
+}
+
+// A backend that never has a map: the navigator plans nothing and the vehicle stands.
+class BlindBackend final : public MapBackend {
+ public:
+  std::shared_ptr<const planner::PlanningMap> Update(const Points& points_L, const MapContext&) override {
+    points_seen = points_L.size();
+    return nullptr;
+  }
+  const char* name() const override { return "blind"; }
+  std::size_t points_seen = 0;
+};
+
+TEST(NavigatorTest, AMapBackendWithoutAMapLeavesTheVehicleStanding) {
+  auto backend = std::make_unique<BlindBackend>();
+  const BlindBackend* seen = backend.get();
+  Navigator::Plugins plugins;
+  plugins.map = std::move(backend);
+  Navigator nav(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+  FirstCycle(&nav, FlatGroundScans(1));
+  EXPECT_GT(seen->points_seen, 1000u) << "the backend gets the prepared cloud";
+  EXPECT_EQ(nav.stats().map_failures, 1u);
+  EXPECT_FALSE(nav.has_path());
+  EXPECT_TRUE(nav.Control(0.2, Eigen::Isometry3d::Identity(), 0.0).done);
+  EXPECT_STREQ(nav.map_backend().name(), "blind");
+}
+
+// A planner that goes straight to the goal and a follower that records what it is given.
+class StraightPlanner final : public PathPlanner {
+ public:
+  planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2& goal,
+                           const std::vector<double>&) const override {
+    planner::PlanResult r;
+    r.status = planner::PlanStatus::kFound;
+    planner::PathSegment seg;
+    seg.poses = {{start, 0.0}, {goal, 0.0}};
+    r.path.segments.push_back(seg);
+    return r;
+  }
+  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
+                                              std::size_t) const override {
+    return std::nullopt;
+  }
+};
+
+class RecordingFollower final : public PathFollower {
+ public:
+  explicit RecordingFollower(int* updates) : updates_(updates) {}
+  void Follow(const planner::Path& path_O) override { path_ = path_O; }
+  void Clear() override { path_ = {}; }
+  bool has_path() const override { return !path_.empty(); }
+  bool done() const override { return false; }
+  controller::Command Update(const Pose2&, double) override {
+    ++*updates_;
+    return {0.1, 0.7, false};
+  }
+
+ private:
+  planner::Path path_;
+  int* updates_;
+};
+
+TEST(NavigatorTest, ItsPlannerAndFollowerCanBeAUsers) {
+  int updates = 0;
+  Navigator::Plugins plugins;
+  plugins.planner = std::make_unique<StraightPlanner>();
+  plugins.follower = std::make_unique<RecordingFollower>(&updates);
+  Navigator nav(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+  FirstCycle(&nav, FlatGroundScans(1));
+  ASSERT_TRUE(nav.has_path());
+  EXPECT_EQ(nav.path_O().Poses().size(), 2u) << "the user's straight path";
+  // Control runs the follower at the control rate (50 Hz) and repeats its command in between; a
+  // caller that fell behind gets one tick, not one per missed tick.
+  EXPECT_EQ(nav.Control(0.19, Eigen::Isometry3d::Identity(), 0.0).speed_mps, 0.7);
+  EXPECT_EQ(updates, 1);
+  updates = 0;
+  for (int i = 0; i < 10; ++i) {
+    const controller::Command c = nav.Control(0.2 + 0.01 * i, Eigen::Isometry3d::Identity(), 0.0);
+    EXPECT_EQ(c.speed_mps, 0.7);
+  }
+  EXPECT_EQ(updates, 5);
+}
+
+TEST(NavigatorTest, GeometryIsDerivedFromTheVehicleModel) {
+  Navigator::Config config;
+  config.vehicle.length_m = 4.0;
+  config.vehicle.rear_overhang_m = 1.0;
+  config.vehicle.wheelbase_m = 2.5;
+  config.vehicle.max_steering_deg = 35.0;
+  const Navigator::Config d = config.Derived();
+  EXPECT_EQ(d.planner.vehicle.length_m, 4.0);
+  EXPECT_EQ(d.planner.vehicle.centre_ahead_m, 1.0);
+  EXPECT_EQ(d.planner.vehicle.wheelbase_m, 2.5);
+  EXPECT_EQ(d.follower.wheelbase_m, 2.5);
+  EXPECT_DOUBLE_EQ(d.follower.max_steering_rad, DegToRad(35.0));
+  // The defaults derive the library's own numbers, bit for bit.
+  const Navigator::Config defaults = Navigator::Config{}.Derived();
+  EXPECT_EQ(defaults.planner.vehicle.centre_ahead_m, planner::VehicleBox{}.centre_ahead_m);
+  EXPECT_EQ(defaults.planner.turning_radius_m, planner::LocalPlanner::Config{}.turning_radius_m);
+}
+
+TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
+  Navigator::Config config;
+  config.map_rate_hz = 0.0;
+  EXPECT_THROW(Navigator(config, {{0.0, 0.0}}), std::invalid_argument);
+  EXPECT_THROW(Navigator(Navigator::Config{}, {}), std::invalid_argument);
+  EXPECT_THROW(Navigator(Navigator::Config{}, {{0.0, std::nan("")}}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ovpc::navigation
