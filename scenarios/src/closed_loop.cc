@@ -12,7 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "ovpc/core/cloud_io.h"
+#include "ovpc/io/cloud_io.h"
 #include "ovpc/sim/image.h"
 #include "ovpc/sim/renderer.h"
 

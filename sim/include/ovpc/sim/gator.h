@@ -11,7 +11,7 @@
 
 #include <string>
 
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/core/sensor_mount.h"
 #include "ovpc/core/types.h"
 
 namespace ovpc::sim {
@@ -51,7 +51,7 @@ struct GatorParams {
   double steer_gain_nm_per_rad = 2000.0;
 
   /// The LiDAR on the mast: 1.88 m above B, tilted 45 deg, base spinning at 0.5 Hz.
-  synth::SpinningLidarMount lidar;
+  SpinningLidarMount lidar;
 
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
