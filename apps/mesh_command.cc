@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "ovpc/core/cloud_io.h"
+#include "ovpc/io/cloud_io.h"
 #include "ovpc/core/ovpc_mapper.h"
 #include "ovpc/core/point_cloud_buffer.h"
 

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "commands.h"
-#include "ovpc/core/cloud_io.h"
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/io/cloud_io.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc::apps {
 

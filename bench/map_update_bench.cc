@@ -43,7 +43,7 @@
 #include "ovpc/bench/stats.h"
 #include "ovpc/core/ovpc_mapper.h"
 #include "ovpc/core/point_cloud_buffer.h"
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc::bench {
 namespace {
@@ -388,7 +388,7 @@ long ResidentKb(const char* field) {
 // point cloud buffer (25 scans, 14,000 points) and the map is updated from the buffer.
 std::vector<Points> SequenceClouds(int frames, std::uint64_t seed) {
   const synth::Scene scene = synth::MakeOutdoorScene(seed);
-  const synth::SpinningLidarMount mount;
+  const SpinningLidarMount mount;
   PointCloudBuffer buffer;
   std::vector<Points> clouds;
   const int warmup = buffer.config().max_scans - 1;

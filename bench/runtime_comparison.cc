@@ -37,7 +37,7 @@
 #include "ovpc/bench/report.h"
 #include "ovpc/bench/stats.h"
 #include "ovpc/core/ovpc_mapper.h"
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/core/sensor_mount.h"
 
 namespace ovpc::bench {
 namespace {
@@ -101,7 +101,7 @@ int Run(Options o) {
 
   const OvpcMapper mapper;
   const baselines::ElevationMap::Config em_config;
-  const double base_below_sensor_m = synth::SpinningLidarMount{}.height_m;
+  const double base_below_sensor_m = SpinningLidarMount{}.height_m;
   int ovpc_failures = 0;
 
   std::vector<Method> methods;

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc::bench {
 

@@ -5,7 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "ovpc/core/cloud_io.h"
+#include "ovpc/io/cloud_io.h"
 #include "ovpc/sim/image.h"
 
 namespace ovpc::scenarios {

@@ -133,7 +133,7 @@ void Simulator::SetCommand(double steering_rad, double speed_mps) {
 }
 
 void Simulator::SetSpinJoint() {
-  const synth::SpinningLidarMount& mount = config_.vehicle.lidar;
+  const SpinningLidarMount& mount = config_.vehicle.lidar;
   mjData* d = mj_->data;
   d->qpos[mj_->spin_qpos] = 2.0 * kPi * std::fmod(mount.spin_hz * d->time, 1.0);
   d->qvel[mj_->spin_dof] = 2.0 * kPi * mount.spin_hz;

@@ -23,8 +23,8 @@ struct ElevationTable {
   double sin_e[kLasers];
   ElevationTable() {
     for (int i = 0; i < kLasers; ++i) {
-      cos_e[i] = std::cos(DegToRad(synth::kVlp16ElevationDeg[static_cast<std::size_t>(i)]));
-      sin_e[i] = std::sin(DegToRad(synth::kVlp16ElevationDeg[static_cast<std::size_t>(i)]));
+      cos_e[i] = std::cos(DegToRad(kVlp16ElevationDeg[static_cast<std::size_t>(i)]));
+      sin_e[i] = std::sin(DegToRad(kVlp16ElevationDeg[static_cast<std::size_t>(i)]));
     }
   }
 };
@@ -52,7 +52,7 @@ void Vlp16Sim::Config::Validate() const {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument("Vlp16Sim::Config: " + what);
   };
-  const synth::SpinningLidarMount& m = mount;
+  const SpinningLidarMount& m = mount;
   require(std::isfinite(m.height_m), "mount.height_m must be finite");
   require(std::isfinite(m.tilt_rad), "mount.tilt_rad must be finite");
   require(std::isfinite(m.spin_hz), "mount.spin_hz must be finite");
@@ -121,7 +121,7 @@ std::vector<double> Vlp16Sim::CastFiring(const Eigen::Isometry3d& T_W_S, double 
 
 void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
                        std::vector<TrueScan>* completed) {
-  const synth::SpinningLidarMount& mount = config_.mount;
+  const SpinningLidarMount& mount = config_.mount;
   const ElevationTable& e = Elevations();
   const bool dropouts = config_.dropout_fraction > 0.0;
   const bool outliers = config_.outlier_fraction > 0.0;

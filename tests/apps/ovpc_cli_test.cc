@@ -13,8 +13,8 @@
 
 #include "../support/test_clouds.h"
 #include "../support/test_scenarios.h"
-#include "ovpc/core/cloud_io.h"
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/io/cloud_io.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc {
 namespace {

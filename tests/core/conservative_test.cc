@@ -12,7 +12,7 @@
 
 #include "../support/test_clouds.h"
 #include "ovpc/core/ovpc_mapper.h"
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc {
 namespace {

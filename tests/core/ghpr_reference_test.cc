@@ -8,7 +8,7 @@
 
 #include "../support/test_clouds.h"
 #include "ovpc/core/ghpr.h"
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc {
 namespace {

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc {
 namespace {
@@ -200,7 +200,7 @@ void CompareWithReference(const PointCloudBuffer::Config& config, std::uint64_t 
   PointCloudBuffer buffer(config);
   reference::Buffer ref(config);
   const synth::Scene scene = synth::MakeOutdoorScene(seed);
-  const synth::SpinningLidarMount mount;
+  const SpinningLidarMount mount;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);

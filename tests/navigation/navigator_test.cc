@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc::navigation {
 namespace {
@@ -18,7 +18,7 @@ using planner::Pose2;
 std::vector<Scan> FlatGroundScans(std::uint64_t seed) {
   synth::Scene scene;
   scene.cylinders.push_back({Vec3(9.0, 3.0, 0.0), 0.2, 2.0});
-  return synth::SimulateScans(scene, synth::SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, seed);
+  return synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, seed);
 }
 
 // The settings a flat-ground run needs beyond the library defaults (as in the default preset).

@@ -152,7 +152,7 @@ TEST(Vlp16Test, ScanHasTheBeamElevationsAndRayCount) {
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Vec3& p = pts[i];
     const double elevation_deg = RadToDeg(std::asin(p.z() / p.norm()));
-    EXPECT_NEAR(elevation_deg, synth::kVlp16ElevationDeg[i % 16], 1e-6) << i;
+    EXPECT_NEAR(elevation_deg, kVlp16ElevationDeg[i % 16], 1e-6) << i;
   }
   // Firing j points at azimuth j * 0.398 deg.
   for (const std::size_t j : {0u, 1u, 226u, 452u, 904u}) {
@@ -197,7 +197,7 @@ TEST(Vlp16Test, SpinningBaseCoversAllAroundIn2Seconds) {
   EXPECT_LT(sectors_seen(RunParked(&still_lidar, 2.0, 0.005), 40),
             static_cast<std::size_t>(kSectors) - 2);
   // Each scan carries the sensor pose at its end time.
-  const synth::SpinningLidarMount mount;
+  const SpinningLidarMount mount;
   for (const TrueScan& scan : scans) {
     EXPECT_TRUE(scan.T_W_S.isApprox(mount.T_B_S(scan.time_s), 1e-12));
   }

@@ -11,7 +11,7 @@
 
 #include <string>
 
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/core/sensor_mount.h"
 #include "ovpc/core/types.h"
 #include "ovpc/core/vehicle_model.h"
 
@@ -54,7 +54,7 @@ struct GatorParams {
   double steer_gain_nm_per_rad = 2000.0;
 
   /// The LiDAR on the mast: 1.88 m above B, tilted 45 deg, base spinning at 0.5 Hz.
-  synth::SpinningLidarMount lidar;
+  SpinningLidarMount lidar;
 
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;

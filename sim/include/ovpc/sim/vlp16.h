@@ -22,7 +22,7 @@
 #include <memory>
 #include <vector>
 
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/core/sensor_mount.h"
 #include "ovpc/core/types.h"
 #include "ovpc/sim/ray_caster.h"
 
@@ -53,7 +53,7 @@ class Rng;
 class Vlp16Sim {
  public:
   struct Config {
-    synth::SpinningLidarMount mount;  ///< 1.88 m, 45 deg tilt, 0.5 Hz spin, 20 Hz, 1-100 m
+    SpinningLidarMount mount;  ///< 1.88 m, 45 deg tilt, 0.5 Hz spin, 20 Hz, 1-100 m
     double range_sigma_m = 0.015;     ///< Gaussian range noise (spec: +-3 cm)
     // Faults.
     double dropout_fraction = 0.0;    ///< returns lost at random

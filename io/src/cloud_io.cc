@@ -1,7 +1,7 @@
 // Point cloud and mesh files. Every reader loads the whole file into memory and checks each
 // count against the bytes that are really there before it allocates anything, so a corrupt
 // header gives an error message instead of a crash or a huge allocation.
-#include "ovpc/core/cloud_io.h"
+#include "ovpc/io/cloud_io.h"
 
 #include <algorithm>
 #include <array>

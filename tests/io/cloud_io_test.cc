@@ -1,5 +1,5 @@
 // Reading and writing PLY, PCD, KITTI .bin and .xyz files, including malformed ones.
-#include "ovpc/core/cloud_io.h"
+#include "ovpc/io/cloud_io.h"
 
 #include <gtest/gtest.h>
 

@@ -9,7 +9,7 @@
 //  - each hit is taken in the sensor frame at its firing time and carried into the sensor frame at
 //    the scan's end with the known poses (exact motion compensation);
 //  - points are stored firing by firing, laser id 0..15 within a firing, misses skipped.
-#include "ovpc/core/synthetic_scene.h"
+#include "ovpc/synth/synthetic_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -214,17 +214,6 @@ bool OverlapsCarport(const Footprint& f) {
 }
 
 }  // namespace
-
-Eigen::Isometry3d SpinningLidarMount::T_B_S(double time_s) const {
-  // fmod keeps the yaw accurate for large times.
-  const double yaw_rad = 2.0 * kPi * std::fmod(spin_hz * time_s, 1.0);
-  Eigen::Isometry3d T_B_S = Eigen::Isometry3d::Identity();
-  T_B_S.translation() = Vec3(0.0, 0.0, height_m);
-  T_B_S.linear() = (Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()) *
-                    Eigen::AngleAxisd(tilt_rad, Vec3::UnitX()))
-                       .toRotationMatrix();
-  return T_B_S;
-}
 
 double Scene::GroundHeight(double x, double y) const {
   if (!HasRamp(*this) || x <= ramp_start_x || std::abs(y - ramp_centre_y) > ramp_half_width) {

@@ -1,6 +1,6 @@
-// Analytic outdoor scenes and a VLP-16 on a tilted spinning base, for tests, benchmarks and the
-// bundled sample cloud. The closed-loop simulator casts rays with Embree instead; the beam pattern
-// and mount kinematics here are the same facts (see docs/REFERENCE.md).
+// Analytic outdoor scenes scanned by a VLP-16 on a tilted spinning base, for tests, benchmarks and
+// the bundled sample cloud. The closed-loop simulator casts rays with Embree instead; both take the
+// beam pattern and the mount kinematics from ovpc/core/sensor_mount.h.
 #pragma once
 
 #include <array>
@@ -9,28 +9,10 @@
 #include <vector>
 
 #include "ovpc/core/point_cloud_buffer.h"
+#include "ovpc/core/sensor_mount.h"
 #include "ovpc/core/types.h"
 
 namespace ovpc::synth {
-
-/// Velodyne VLP-16 elevation angles by laser id, degrees.
-inline constexpr std::array<double, 16> kVlp16ElevationDeg = {
-    -15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15};
-
-/// The paper's mount: a VLP-16 tilted about the base's x axis, on a base spinning about the
-/// vehicle's vertical axis, on a mast above the vehicle frame B.
-struct SpinningLidarMount {
-  double height_m = 1.88;          ///< sensor above the vehicle frame origin
-  double tilt_rad = DegToRad(45.0);
-  double spin_hz = 0.5;            ///< base rotation rate
-  double scan_hz = 20.0;           ///< scans per second (VLP-16 rotation rate)
-  double azimuth_step_rad = DegToRad(0.398);  ///< horizontal step at 20 Hz
-  double min_range_m = 1.0;
-  double max_range_m = 100.0;
-
-  /// Pose of the sensor S in the vehicle frame B at time t.
-  Eigen::Isometry3d T_B_S(double time_s) const;
-};
 
 /// Vertical cylinder (post, pole, trunk).
 struct Cylinder { Vec3 base; double radius_m; double height_m; };

@@ -1,0 +1,51 @@
+# CTest test package.consumer (cmake -P): installs the build tree to a fresh prefix, then configures,
+# builds and runs the consumer project beside this file against it, with the build's compiler and
+# build type. Fails on the first step that fails; the work directory is removed on success.
+#
+# -D variables: OVPC_BINARY_DIR (the build tree), CONSUMER_SOURCE_DIR, WORK_DIR (a parent for the
+# test's own directory), CONFIG, GENERATOR, CXX_COMPILER, optional CXX_COMPILER_LAUNCHER.
+foreach(var IN ITEMS OVPC_BINARY_DIR CONSUMER_SOURCE_DIR WORK_DIR CONFIG GENERATOR CXX_COMPILER)
+  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+    message(FATAL_ERROR "run_consumer_test.cmake: -D${var}=... is required")
+  endif()
+endforeach()
+
+# A directory of its own, so that runs of different build trees or overlapping runs never share files.
+string(RANDOM LENGTH 10 ALPHABET 0123456789abcdefghijklmnopqrstuvwxyz suffix)
+set(dir "${WORK_DIR}/run-${suffix}")
+set(prefix "${dir}/prefix")
+file(REMOVE_RECURSE "${dir}")
+file(MAKE_DIRECTORY "${dir}")
+
+function(step name)
+  message(STATUS "package.consumer: ${name}")
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "package.consumer: ${name} failed (${rc}); files kept in ${dir}")
+  endif()
+endfunction()
+
+step("install to ${prefix}"
+     "${CMAKE_COMMAND}" --install "${OVPC_BINARY_DIR}" --prefix "${prefix}" --config "${CONFIG}")
+
+set(launcher)
+if(CXX_COMPILER_LAUNCHER)
+  set(launcher "-DCMAKE_CXX_COMPILER_LAUNCHER=${CXX_COMPILER_LAUNCHER}")
+endif()
+step("configure the consumer"
+     "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}" -B "${dir}/build" -G "${GENERATOR}"
+     "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" ${launcher}
+     "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
+     # The empty generator expression keeps multi-config generators from adding a per-config folder.
+     "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=${dir}/bin/$<0:>")
+
+# The package found must be the one just installed, not one elsewhere on the system.
+file(STRINGS "${dir}/build/CMakeCache.txt" found REGEX "^ovpc_DIR:")
+if(NOT found MATCHES "=${prefix}/")
+  message(FATAL_ERROR "package.consumer: the consumer found ${found}, not the package in ${prefix}")
+endif()
+
+step("build the consumer" "${CMAKE_COMMAND}" --build "${dir}/build" --config "${CONFIG}")
+step("run the consumer" "${dir}/bin/ovpc_consumer" "${dir}")
+
+file(REMOVE_RECURSE "${dir}")
