@@ -25,7 +25,6 @@ class CarrotFollower : public navigation::PathFollower {
     if (done_) return {0.0, 0.0, true};
     return {std::atan(2.0 * 1.9 * std::sin(bearing) / std::max(dist(poses_[i]), 0.5)), 0.8, false};
   }
-
  private:
   std::vector<planner::PathPose> poses_;
   bool done_ = false;
