@@ -28,7 +28,7 @@ Runner RegisterRun(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "Run one scenario in closed loop (headless) and score it");
   cmd->footer(
-      "Writes DIR/result.json, DIR/trajectory.csv, DIR/plans.csv, DIR/topdown.png and DIR/mesh_*.ply (and frame_*.png with\n"
+      "Writes DIR/result.json, DIR/trajectory.csv, DIR/plans.csv, DIR/cycles.csv, DIR/topdown.png and DIR/mesh_*.ply (and frame_*.png with\n"
       "--frames). Exit codes: 0 every criterion passed, 1 a criterion failed, 2 bad input (unreadable or\n"
       "malformed scenario, unknown key, bad --set).");
   cmd->add_option("scenario", o->scenario, "Scenario file (scenarios/*.yaml)")->required();
@@ -66,8 +66,9 @@ Runner RegisterRun(CLI::App& app) {
     scenarios::WriteResultJson(scenario, result, (dir / "result.json").string());
     scenarios::WriteTrajectoryCsv(result, (dir / "trajectory.csv").string());
     scenarios::WritePlansCsv(result, (dir / "plans.csv").string());
+    scenarios::WriteCyclesCsv(result, (dir / "cycles.csv").string());
     scenarios::WriteTopdownPng(scenario, result, (dir / "topdown.png").string());
-    std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, topdown.png";
+    std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, cycles.csv, topdown.png";
     if (!result.files.empty()) std::cout << " and " << result.files.size() << " snapshot/frame files";
     std::cout << "\n";
     return result.passed ? kExitOk : kExitFailure;

@@ -32,6 +32,7 @@ void CopyStats(const navigation::Navigator& nav, RunResult* result) {
   result->mapper = s.mapper;
   result->planner = s.planner;
   result->controller = s.controller;
+  result->cycles = nav.cycles();
 }
 
 }  // namespace

@@ -190,5 +190,35 @@ TEST_F(CliTest, SuiteRunsTheSweepAndSeedsAndWritesJUnitAndSummary) {
   EXPECT_EQ(Run("suite " + Path("short.yaml") + " --first-seed -1").exit_code, 2);
 }
 
+// The robot's configuration of a run: printed, recorded in result.json, and taken from a preset.
+TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  const RunResult printed =
+      Run("run " + Path("short.yaml") + " --print-config --set navigator.follower.target_speed_mps=1.25 --out " + Path("pc"));
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  EXPECT_EQ(printed.out.rfind("navigator:\n  map_rate_hz: 5\n", 0), 0u) << printed.out;
+  EXPECT_NE(printed.out.find("    target_speed_mps: 1.25\n"), std::string::npos) << printed.out;
+  EXPECT_FALSE(fs::exists(Path("pc"))) << "--print-config runs nothing";
+
+  // The printed configuration is a preset; a run with it records the same values in result.json.
+  WriteText("mine.yaml", printed.out);
+  const RunResult run = Run("run " + Path("short.yaml") + " --preset " + Path("mine.yaml") + " -q --out " + Path("run"));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const nlohmann::json result = nlohmann::json::parse(ReadAll(Path("run/result.json")));
+  EXPECT_EQ(result["config"]["navigator"]["follower"]["target_speed_mps"], 1.25);
+  EXPECT_EQ(result["config"]["navigator"]["planner"]["vehicle"]["footprint_check"], "wheels");
+  EXPECT_EQ(result["config"]["navigator"]["local_goal"]["max_ahead_m"], "inf");
+  // One row per map-and-plan cycle: 5 per simulated second.
+  const std::string cycles = ReadAll(Path("run/cycles.csv"));
+  EXPECT_EQ(cycles.rfind("time_s,cloud_points,map_ok,trigger,outcome,", 0), 0u) << cycles;
+  EXPECT_NEAR(CountLines(cycles) - 1, 5.0 * result["sim_time_s"].get<double>(), 2.0);
+
+  WriteText("broken.yaml", "navigator:\n  follower: {target_speed: 2}\n");
+  const RunResult bad = Run("run " + Path("short.yaml") + " --preset " + Path("broken.yaml"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("broken.yaml:2: unknown key 'navigator.follower.target_speed'"), std::string::npos) << bad.err;
+  EXPECT_EQ(Run("run " + Path("short.yaml") + " --preset " + Path("nothing.yaml")).exit_code, 2);
+}
+
 }  // namespace
 }  // namespace ovpc

@@ -1,5 +1,7 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -99,6 +101,76 @@ TEST(ScenarioYamlTest, EveryBundledScenarioLoads) {
     SCOPED_TRACE(name);
     EXPECT_NO_THROW(LoadScenario(std::string(OVPC_SOURCE_DIR) + "/scenarios/" + name + ".yaml"));
   }
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
+
+namespace ovpc::scenarios {
+namespace {
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The preset file without its comments and blank lines: what --print-config prints for it.
+std::string WithoutComments(const std::string& yaml) {
+  std::istringstream in(yaml);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    if (!line.empty()) out += line + "\n";
+  }
+  return out;
+}
+
+TEST(RunConfigTest, TheDefaultPresetListsEverySettingAndPrintsAsItReads) {
+  const std::string file = std::string(OVPC_SOURCE_DIR) + "/navigation/presets/default.yaml";
+  EXPECT_EQ(DefaultPreset().yaml, ReadText(file)) << "the built-in preset is the file";
+  const Scenario s = ParseScenario(kMinimal, "test.yaml", {"navigator.ovpc.mapper.ghpr.gamma=-0.03",
+                                                           "navigator.ovpc.mapper.traversability.alpha_max_rad=0.5235987755982988",
+                                                           "navigator.buffer.max_scans=25"});
+  // Every key the Config lists is in the file, in the same order, with the value it reads as.
+  EXPECT_EQ(FormatRunConfig(s, 1), WithoutComments(ReadText(file)));
+}
+
+TEST(RunConfigTest, PrintedConfigReadsBackAsAPresetToTheSameConfig) {
+  const Scenario a = LoadScenario(std::string(OVPC_SOURCE_DIR) + "/scenarios/slope_35_detour.yaml");
+  const std::string printed = FormatRunConfig(a, 4);
+  EXPECT_NE(printed.find("placement: wheel_contacts"), std::string::npos) << "the scenario's own keys are in it";
+  const Scenario b = ParseScenario("name: plain\ntime_limit_s: 5\nroute: [[0, 0], [5, 0]]\n", "plain.yaml", {},
+                                   Preset{printed, "printed.yaml"});
+  EXPECT_EQ(FormatRunConfig(b, 4), printed);
+  EXPECT_EQ(b.navigator.planner.vehicle.placement, planner::VehicleBox::Placement::kWheelContacts);
+  EXPECT_EQ(b.navigator.local_goal.mode, planner::LocalGoalConfig::Mode::kReachable);
+}
+
+TEST(RunConfigTest, BadPresetsAndTheOldParamsSectionAreErrorsNamingFileAndLine) {
+  const auto error = [](const std::string& scenario, const Preset& preset) {
+    try {
+      ParseScenario(scenario, "test.yaml", {}, preset);
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  buffer:\n    max_scanz: 3\n", "p.yaml"})
+                .rfind("p.yaml:3: unknown key 'navigator.buffer.max_scanz'", 0),
+            0u);
+  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  planner:\n    vehicle: {placement: floating}\n", "p.yaml"})
+                .rfind("p.yaml:3: 'navigator.planner.vehicle.placement' must be nearest_point or wheel_contacts", 0),
+            0u);
+  EXPECT_NE(error(kMinimal, Preset{"navigator:\n  map_rate_hz: 0\n", "p.yaml"}).find("map_rate_hz must be > 0"),
+            std::string::npos);
+  std::string old = kMinimal;
+  old.insert(old.find("criteria:"), "params:\n  loop: {goal_candidates: 2}\n");
+  EXPECT_EQ(error(old, DefaultPreset()).rfind("test.yaml:12: 'params' is gone", 0), 0u) << error(old, DefaultPreset());
+  EXPECT_THROW(LoadPreset("/nonexistent/preset.yaml"), ScenarioError);
 }
 
 }  // namespace

@@ -74,6 +74,7 @@ struct RunResult {
   std::vector<std::string> collisions;  ///< first contacts: time, vehicle geom, world geom
   std::vector<TrajectorySample> trajectory;
   std::vector<PlanRecord> plan_log;
+  std::vector<navigation::CycleRecord> cycles;  ///< the navigator's map-and-plan cycles
   std::vector<MapPoint> map_points;     ///< the maps' points over the run (subsampled), world frame
   std::vector<std::string> files;       ///< files written (mesh snapshots, frames)
   StageStats physics_lidar, buffer, mapper, planner, controller;

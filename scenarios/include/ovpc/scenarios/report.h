@@ -15,6 +15,10 @@ void WriteResultJson(const Scenario& scenario, const RunResult& result, const st
 
 /// trajectory.csv: time, true pose, odometry pose, speed and commands, one row per record.
 void WriteTrajectoryCsv(const RunResult& result, const std::string& path);
+/// cycles.csv: one row per map-and-plan cycle of the navigator: time, prepared points, whether a map
+/// was made, the re-planning trigger and the last plan's outcome ("" when none), wall-clock ms of
+/// the preparation, the map update and the planning.
+void WriteCyclesCsv(const RunResult& result, const std::string& path);
 /// One row per planner call: time, trigger, vehicle and local goal (world frame), outcome,
 /// iterations and how many sampled states each validity check rejected.
 void WritePlansCsv(const RunResult& result, const std::string& path);
