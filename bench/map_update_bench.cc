@@ -437,8 +437,8 @@ void RunSequence(const Options& options, std::vector<Row>* rows) {
 
   if (options.threads == 2) {
     // Throughput per cloud, wall clock: the same two stages one after the other, then pipelined.
-    const GhprConfig ghpr;
-    const TraversabilityConfig traversability;
+    const Ghpr::Config ghpr;
+    const Traversability::Config traversability;
     auto classify = [&](GhprResult r) {
       ClassifyFaces(traversability, &r.mesh);
       return BuildTraversabilityCloud(r.mesh).size();
@@ -573,7 +573,7 @@ int Main(int argc, char** argv) {
               "reps %d (fewer if over %.0f s per case); ratio = median / OVPC median\n",
               g_cpu_time ? "thread CPU time" : "steady_clock (wall)", options.reps, kCaseBudget_s);
   std::printf("methods: ovpc = OvpcMapper::Update (gamma %.3g); ovpc_cgalhull = the same with CGAL's quickhull\n"
-              "         (GhprConfig::reference_hull); cgal_hull = plain path: GHPR transform + "
+              "         (Ghpr::Config::reference_hull); cgal_hull = plain path: GHPR transform + "
               "CGAL convex_hull_3 on all points;\n"
               "         octomap_R = fresh OcTree(R), insertPointCloud from the origin, no max "
               "range\n\n",

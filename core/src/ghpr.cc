@@ -84,15 +84,15 @@ struct Scratch {
 
 }  // namespace
 
-void GhprConfig::Validate() const {
-  if (!std::isfinite(gamma)) throw std::invalid_argument("GhprConfig: gamma must be finite");
+void Ghpr::Config::Validate() const {
+  if (!std::isfinite(gamma)) throw std::invalid_argument("Ghpr::Config: gamma must be finite");
   if (kernel == GhprKernel::kExponential && !(gamma < 0.0)) {
-    throw std::invalid_argument("GhprConfig: the exponential kernel needs gamma < 0 (paper: -0.03), got " +
+    throw std::invalid_argument("Ghpr::Config: the exponential kernel needs gamma < 0 (paper: -0.03), got " +
                                 std::to_string(gamma));
   }
   if (kernel == GhprKernel::kLinear && !(gamma > 0.0)) {
     throw std::invalid_argument(
-        "GhprConfig: the linear kernel needs gamma > 0 and larger than the farthest point's distance, got " +
+        "Ghpr::Config: the linear kernel needs gamma > 0 and larger than the farthest point's distance, got " +
         std::to_string(gamma));
   }
 }
@@ -117,7 +117,7 @@ const char* StatusName(GhprStatus status) {
   return "unknown";
 }
 
-GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const GhprConfig& config) {
+GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::Config& config) {
   config.Validate();
   if (!viewpoint.allFinite()) throw std::invalid_argument("ComputeGhpr: viewpoint is not finite");
   GhprResult result;

@@ -8,25 +8,25 @@
 
 namespace ovpc {
 
-void TraversabilityConfig::Validate() const {
+void Traversability::Config::Validate() const {
   if (!(alpha_max_rad > 0.0 && alpha_max_rad <= kPi / 2)) {
-    throw std::invalid_argument("TraversabilityConfig: alpha_max must be in (0, 90] deg, got " +
+    throw std::invalid_argument("Traversability::Config: alpha_max must be in (0, 90] deg, got " +
                                 std::to_string(RadToDeg(alpha_max_rad)) + " deg");
   }
   if (!(delta_h_max_m > 0.0) || !std::isfinite(delta_h_max_m)) {
-    throw std::invalid_argument("TraversabilityConfig: delta_h_max must be > 0 m, got " +
+    throw std::invalid_argument("Traversability::Config: delta_h_max must be > 0 m, got " +
                                 std::to_string(delta_h_max_m));
   }
   if (!(noise_floor_m >= 0.0) || !(noise_floor_m < delta_h_max_m)) {
-    throw std::invalid_argument("TraversabilityConfig: noise_floor must be in [0, delta_h_max), got " +
+    throw std::invalid_argument("Traversability::Config: noise_floor must be in [0, delta_h_max), got " +
                                 std::to_string(noise_floor_m));
   }
   if (!up.allFinite() || std::abs(up.norm() - 1.0) > 1e-6) {
-    throw std::invalid_argument("TraversabilityConfig: up must be a unit vector");
+    throw std::invalid_argument("Traversability::Config: up must be a unit vector");
   }
 }
 
-void ClassifyFaces(const TraversabilityConfig& config, FreeSpaceMesh* mesh) {
+void ClassifyFaces(const Traversability::Config& config, FreeSpaceMesh* mesh) {
   const std::size_t num_faces = mesh->triangles.size();
   mesh->face_normals.resize(num_faces);
   mesh->face_traversable.resize(num_faces);

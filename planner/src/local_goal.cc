@@ -53,7 +53,7 @@ std::vector<RoutePoint> Resample(const std::vector<Eigen::Vector2d>& route_O, co
 // closest to the vehicle), and where it ends: once the route has been outside known free space for
 // more than max_gap_m.
 std::pair<std::size_t, std::size_t> AheadRange(const PlanningMap& map, const std::vector<RoutePoint>& route,
-                                               const Eigen::Vector2d& here, const LocalGoalConfig& config,
+                                               const Eigen::Vector2d& here, const LocalGoalSelection::Config& config,
                                                std::optional<double> vehicle_progress_m) {
   std::size_t closest = 0;
   if (vehicle_progress_m) {
@@ -86,10 +86,10 @@ std::pair<std::size_t, std::size_t> AheadRange(const PlanningMap& map, const std
   return {closest, end};
 }
 
-// The kReachable goals (see LocalGoalConfig::Mode).
+// The kReachable goals (see LocalGoalSelection::Config::Mode).
 std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const VehicleBox& vehicle,
                                             const std::vector<RoutePoint>& route, std::size_t closest, std::size_t end,
-                                            const Pose2& vehicle_L, const LocalGoalConfig& config,
+                                            const Pose2& vehicle_L, const LocalGoalSelection::Config& config,
                                             const std::optional<LocalGoal>& previous_L, std::size_t max_count) {
   std::vector<LocalGoal> goals;
   const MapBounds bounds = map.Bounds();
@@ -292,42 +292,42 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
 
 }  // namespace
 
-void LocalGoalConfig::Validate() const {
+void LocalGoalSelection::Config::Validate() const {
   if (!(min_distance_m >= 0.0) || !std::isfinite(min_distance_m)) {
-    throw std::invalid_argument("LocalGoalConfig: min_distance_m must be >= 0, got " + std::to_string(min_distance_m));
+    throw std::invalid_argument("LocalGoalSelection::Config: min_distance_m must be >= 0, got " + std::to_string(min_distance_m));
   }
   if (!(lateral_offset_penalty >= 0.0) || !std::isfinite(lateral_offset_penalty)) {
-    throw std::invalid_argument("LocalGoalConfig: lateral_offset_penalty must be >= 0, got " +
+    throw std::invalid_argument("LocalGoalSelection::Config: lateral_offset_penalty must be >= 0, got " +
                                 std::to_string(lateral_offset_penalty));
   }
-  if (!(max_gap_m > 0.0)) throw std::invalid_argument("LocalGoalConfig: max_gap_m must be > 0");
-  if (!(max_ahead_m > 0.0)) throw std::invalid_argument("LocalGoalConfig: max_ahead_m must be > 0");
+  if (!(max_gap_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_gap_m must be > 0");
+  if (!(max_ahead_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_ahead_m must be > 0");
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
-    throw std::invalid_argument("LocalGoalConfig: keep_previous_within_m must be >= 0, got " +
+    throw std::invalid_argument("LocalGoalSelection::Config: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));
   }
   if (!(reach_offset_penalty >= 0.0) || !std::isfinite(reach_offset_penalty)) {
-    throw std::invalid_argument("LocalGoalConfig: reach_offset_penalty must be >= 0, got " +
+    throw std::invalid_argument("LocalGoalSelection::Config: reach_offset_penalty must be >= 0, got " +
                                 std::to_string(reach_offset_penalty));
   }
   if (!(reach_support_m > 0.0)) {
-    throw std::invalid_argument("LocalGoalConfig: reach_support_m must be > 0, got " + std::to_string(reach_support_m));
+    throw std::invalid_argument("LocalGoalSelection::Config: reach_support_m must be > 0, got " + std::to_string(reach_support_m));
   }
   if (!(cell_m >= 0.1) || !(cell_m <= 5.0)) {
-    throw std::invalid_argument("LocalGoalConfig: cell_m must be in [0.1, 5], got " + std::to_string(cell_m));
+    throw std::invalid_argument("LocalGoalSelection::Config: cell_m must be in [0.1, 5], got " + std::to_string(cell_m));
   }
   if (!(end_zone_m >= 0.0) || !std::isfinite(end_zone_m)) {
-    throw std::invalid_argument("LocalGoalConfig: end_zone_m must be >= 0, got " + std::to_string(end_zone_m));
+    throw std::invalid_argument("LocalGoalSelection::Config: end_zone_m must be >= 0, got " + std::to_string(end_zone_m));
   }
   if (!(step_m > 0.0) || !std::isfinite(step_m)) {
-    throw std::invalid_argument("LocalGoalConfig: step_m must be > 0, got " + std::to_string(step_m));
+    throw std::invalid_argument("LocalGoalSelection::Config: step_m must be > 0, got " + std::to_string(step_m));
   }
 }
 
 std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox& vehicle,
                                         const std::vector<Eigen::Vector2d>& route_O,
                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                        const LocalGoalConfig& config, const std::optional<LocalGoal>& previous_L,
+                                        const LocalGoalSelection::Config& config, const std::optional<LocalGoal>& previous_L,
                                         std::size_t max_count, std::optional<double> vehicle_progress_m) {
   config.Validate();
   std::vector<LocalGoal> goals;
@@ -338,7 +338,7 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
   // "Ahead" starts at the vehicle's progress, or else at the route point closest to the vehicle, and
   // ends where the route has been outside known free space for more than max_gap_m.
   const auto [closest, end] = AheadRange(map, route, here, config, vehicle_progress_m);
-  if (config.mode == LocalGoalConfig::Mode::kReachable) {
+  if (config.mode == LocalGoalSelection::Config::Mode::kReachable) {
     return SelectReachableGoals(map, vehicle, route, closest, end, vehicle_L, config, previous_L, max_count);
   }
 
@@ -395,7 +395,7 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
 std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
                                          const std::vector<Eigen::Vector2d>& route_O,
                                          const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                         const LocalGoalConfig& config,
+                                         const LocalGoalSelection::Config& config,
                                          const std::optional<LocalGoal>& previous_L) {
   const std::vector<LocalGoal> goals = SelectLocalGoals(map, vehicle, route_O, T_L_O, vehicle_L, config, previous_L, 1);
   if (goals.empty()) return std::nullopt;

@@ -18,23 +18,23 @@ const char* ReplanReasonName(ReplanReason reason) {
   return "unknown";
 }
 
-void ReplanConfig::Validate() const {
+void Replanning::Config::Validate() const {
   if (!(period_s > 0.0) || !std::isfinite(period_s)) {
-    throw std::invalid_argument("ReplanConfig: period_s must be > 0, got " + std::to_string(period_s));
+    throw std::invalid_argument("Replanning::Config: period_s must be > 0, got " + std::to_string(period_s));
   }
   if (!(goal_too_close_m >= 0.0) || !std::isfinite(goal_too_close_m)) {
-    throw std::invalid_argument("ReplanConfig: goal_too_close_m must be >= 0, got " + std::to_string(goal_too_close_m));
+    throw std::invalid_argument("Replanning::Config: goal_too_close_m must be >= 0, got " + std::to_string(goal_too_close_m));
   }
   if (blocked_confirmations < 1) {
-    throw std::invalid_argument("ReplanConfig: blocked_confirmations must be >= 1, got " +
+    throw std::invalid_argument("Replanning::Config: blocked_confirmations must be >= 1, got " +
                                 std::to_string(blocked_confirmations));
   }
   if (!(blocked_near_m >= 0.0) || !std::isfinite(blocked_near_m)) {
-    throw std::invalid_argument("ReplanConfig: blocked_near_m must be >= 0, got " + std::to_string(blocked_near_m));
+    throw std::invalid_argument("Replanning::Config: blocked_near_m must be >= 0, got " + std::to_string(blocked_near_m));
   }
 }
 
-ReplanReason CheckReplan(const ReplanConfig& config, const ReplanInputs& inputs) {
+ReplanReason CheckReplan(const Replanning::Config& config, const ReplanInputs& inputs) {
   if (!inputs.has_path || !inputs.last_plan_s) return ReplanReason::kNoPath;
   if (inputs.path_blocked &&
       (std::max(1, inputs.blocked_updates) >= config.blocked_confirmations ||

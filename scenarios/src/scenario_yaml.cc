@@ -135,7 +135,7 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
   }
 }
 
-void ReadRecord(MapReader r, RecordConfig* c) {
+void ReadRecord(MapReader r, Recording::Config* c) {
   r.Get("record_rate_hz", &c->record_rate_hz);
   r.Get("mesh_snapshot_period_s", &c->mesh_snapshot_period_s);
   r.Finish();
@@ -218,7 +218,7 @@ void ApplySetting(YAML::Node root, const std::string& setting, const std::string
 
 }  // namespace
 
-void RecordConfig::Validate() const {
+void Recording::Config::Validate() const {
   if (!(record_rate_hz > 0.0) || !std::isfinite(record_rate_hz)) throw std::invalid_argument("record.record_rate_hz must be > 0");
   if (!(mesh_snapshot_period_s >= 0.0)) throw std::invalid_argument("record.mesh_snapshot_period_s must be >= 0");
 }
@@ -263,7 +263,7 @@ void ApplyPreset(const Preset& preset, Scenario* s) {
 
 std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed) {
   navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
-  RecordConfig record = scenario.record;
+  Recording::Config record = scenario.record;
   internal::YamlWriter nav(2);
   navigation::VisitFields(nav, navigator);
   return "navigator:\n" + nav.str() + "record:\n  record_rate_hz: " + internal::FormatNumber(record.record_rate_hz) +

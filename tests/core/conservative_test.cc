@@ -50,7 +50,7 @@ InsideCount CountPointsInside(const FreeSpaceMesh& fsm, const Points& points) {
   return count;
 }
 
-void ExpectConservative(const Points& points, const Vec3& viewpoint, const GhprConfig& ghpr) {
+void ExpectConservative(const Points& points, const Vec3& viewpoint, const Ghpr::Config& ghpr) {
   OvpcMapper::Config config;
   config.ghpr = ghpr;
   const OvpcMap map = OvpcMapper(config).Update(points, viewpoint);
@@ -78,7 +78,7 @@ TEST(ConservativeTest, TheCheckFindsPointsThatAreInside) {
 TEST(ConservativeTest, GeneratedOutdoorCloudsHaveNoPointInsideTheMesh) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     SCOPED_TRACE(seed);
-    ExpectConservative(synth::MakeOutdoorCloud(6000, seed), Vec3::Zero(), GhprConfig{});
+    ExpectConservative(synth::MakeOutdoorCloud(6000, seed), Vec3::Zero(), Ghpr::Config{});
   }
 }
 
@@ -91,11 +91,11 @@ TEST(ConservativeTest, RandomClutterHasNoPointInsideTheMeshForBothKernels) {
       p = Vec3(u(rng), u(rng), 0.4 * u(rng));
     } while (p.norm() < 0.5);
   }
-  ExpectConservative(pts, Vec3::Zero(), GhprConfig{});
-  GhprConfig gentle;
+  ExpectConservative(pts, Vec3::Zero(), Ghpr::Config{});
+  Ghpr::Config gentle;
   gentle.gamma = -0.01;
   ExpectConservative(pts, Vec3::Zero(), gentle);
-  GhprConfig linear;
+  Ghpr::Config linear;
   linear.kernel = GhprKernel::kLinear;
   linear.gamma = 40.0;
   ExpectConservative(pts, Vec3::Zero(), linear);
@@ -113,7 +113,7 @@ TEST(ConservativeTest, GroundWithPostsAndARoofHasNoPointInsideTheMesh) {
       }
     }
   }
-  ExpectConservative(pts, Vec3(0.0, 0.0, 1.88), GhprConfig{});
+  ExpectConservative(pts, Vec3(0.0, 0.0, 1.88), Ghpr::Config{});
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ std::set<std::array<int, 3>> CanonicalFaces(const GhprResult& r) {
 }
 
 // Runs both paths; returns whether the fast path handled the cloud itself.
-bool ExpectSameAsReference(const Points& points, const Vec3& viewpoint, GhprConfig config = {}) {
+bool ExpectSameAsReference(const Points& points, const Vec3& viewpoint, Ghpr::Config config = {}) {
   config.reference_hull = false;
   const GhprResult fast = ComputeGhpr(points, viewpoint, config);
   config.reference_hull = true;
@@ -60,7 +60,7 @@ TEST(GhprReferenceTest, RandomCloudsBothKernelsAndViewpointsMatchCgal) {
     for (Vec3& p : pts) p = Vec3(u(rng), u(rng), 0.3 * u(rng));
     // Viewpoint inside the cloud, and outside it (then it is on the hull).
     const Vec3 viewpoint = trial % 2 ? Vec3(0.5, -0.3, 0.2) : Vec3(0.0, 0.0, 12.0);
-    GhprConfig config;
+    Ghpr::Config config;
     if (trial % 3 == 0) {
       config.kernel = GhprKernel::kLinear;
       config.gamma = 60.0;

@@ -22,7 +22,7 @@ std::vector<int> VisibleSources(const GhprResult& r) {
 TEST(GhprTest, BoxRoomSeenFromInsideIsFullyVisibleWatertightAndEnclosesTheRoom) {
   const Vec3 half(3.0, 2.0, 1.5);  // 6 x 4 x 3 m = 72 m^3
   const Points room = testing::BoxRoom(half, 0.5);
-  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), GhprConfig{});
+  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), Ghpr::Config{});
   ASSERT_EQ(r.status, GhprStatus::kOk) << r.message;
   EXPECT_FALSE(r.viewpoint_on_hull);
   EXPECT_EQ(r.mesh.num_visible(), room.size());
@@ -35,7 +35,7 @@ TEST(GhprTest, BoxRoomSeenFromInsideIsFullyVisibleWatertightAndEnclosesTheRoom) 
 
 TEST(GhprTest, DenseRoomWithSmallGammaKeepsEveryPointAndTheExactVolume) {
   const Points room = testing::BoxRoom(Vec3(3.0, 2.0, 1.5), 0.1);
-  GhprConfig config;
+  Ghpr::Config config;
   config.gamma = -0.001;
   const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), config);
   ASSERT_EQ(r.status, GhprStatus::kOk);
@@ -49,7 +49,7 @@ TEST(GhprTest, DenseRoomWithPaperGammaHidesOnlyPointsNearConcaveEdges) {
   // than about 2|gamma| rad to the edge bridge it. Everything hidden must be near an edge.
   const Vec3 half(3.0, 2.0, 1.5);
   const Points room = testing::BoxRoom(half, 0.1);
-  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), GhprConfig{});
+  const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), Ghpr::Config{});
   ASSERT_EQ(r.status, GhprStatus::kOk);
   std::vector<char> visible(room.size(), 0);
   for (int s : VisibleSources(r)) visible[s] = 1;
@@ -78,7 +78,7 @@ TEST(GhprTest, WallHidesTheObjectBehindIt) {
       pts.emplace_back(7.0 + (y + 0.5), y, 0.5);  // its top
     }
   }
-  const GhprResult r = ComputeGhpr(pts, Vec3::Zero(), GhprConfig{});
+  const GhprResult r = ComputeGhpr(pts, Vec3::Zero(), Ghpr::Config{});
   ASSERT_EQ(r.status, GhprStatus::kOk);
   EXPECT_TRUE(r.viewpoint_on_hull);  // nothing behind the viewpoint
   std::size_t wall_visible = 0;
@@ -98,8 +98,8 @@ TEST(GhprTest, ExponentialKernelIsScaleInvariant) {
   for (Vec3& p : pts) p = Vec3(u(rng), u(rng), u(rng));
   Points scaled = pts;
   for (Vec3& p : scaled) p *= 4.0;
-  const GhprResult a = ComputeGhpr(pts, Vec3::Zero(), GhprConfig{});
-  const GhprResult b = ComputeGhpr(scaled, Vec3::Zero(), GhprConfig{});
+  const GhprResult a = ComputeGhpr(pts, Vec3::Zero(), Ghpr::Config{});
+  const GhprResult b = ComputeGhpr(scaled, Vec3::Zero(), Ghpr::Config{});
   ASSERT_EQ(a.status, GhprStatus::kOk);
   ASSERT_EQ(b.status, GhprStatus::kOk);
   EXPECT_EQ(VisibleSources(a), VisibleSources(b));
@@ -107,7 +107,7 @@ TEST(GhprTest, ExponentialKernelIsScaleInvariant) {
 
 TEST(GhprTest, LinearKernelGivesAWatertightMeshAndChecksGamma) {
   const Points room = testing::BoxRoom(Vec3(3.0, 2.0, 1.5), 0.25);
-  GhprConfig config;
+  Ghpr::Config config;
   config.kernel = GhprKernel::kLinear;
   config.gamma = 100.0;
   const GhprResult r = ComputeGhpr(room, Vec3(0.3, -0.2, 0.1), config);
@@ -121,7 +121,7 @@ TEST(GhprTest, LinearKernelGivesAWatertightMeshAndChecksGamma) {
 
 TEST(GhprTest, GammaOfTheWrongSignIsRejected) {
   const Points room = testing::BoxRoom(Vec3(1, 1, 1), 0.5);
-  GhprConfig config;
+  Ghpr::Config config;
   config.gamma = 0.03;
   EXPECT_THROW(ComputeGhpr(room, Vec3::Zero(), config), std::invalid_argument);
   config.kernel = GhprKernel::kLinear;

@@ -24,7 +24,7 @@ FreeSpaceMesh TiltedTriangle(double angle_rad, double size_m) {
 }
 
 TEST(TraversabilityTest, SurfaceAngleJustBelowAndAbove30Degrees) {
-  TraversabilityConfig config;
+  Traversability::Config config;
   config.delta_h_max_m = 100.0;  // isolate the angle test
   for (double deg : {0.0, 10.0, 29.9}) {
     FreeSpaceMesh mesh = TiltedTriangle(DegToRad(deg), 1.0);
@@ -40,7 +40,7 @@ TEST(TraversabilityTest, SurfaceAngleJustBelowAndAbove30Degrees) {
 }
 
 TEST(TraversabilityTest, HeightSpreadJustBelowAndAbove25Centimetres) {
-  TraversabilityConfig config;
+  Traversability::Config config;
   // A 3 m triangle tilted so that its vertices span the given height: under 5 deg, far from 30.
   auto spread_mesh = [](double spread_m) {
     return TiltedTriangle(std::asin(spread_m / 3.0), 3.0);
@@ -63,10 +63,10 @@ TEST(TraversabilityTest, NoiseFloorJudgesLowSliversByHeightAlone) {
   FreeSpaceMesh ceiling = TiltedTriangle(DegToRad(140.0), 0.05);
   FreeSpaceMesh slope = TiltedTriangle(DegToRad(40.0), 1.0);  // spans 0.64 m: a real slope
   FreeSpaceMesh fold = TiltedTriangle(DegToRad(100.0), 0.04);  // on edge, leaning over: noise
-  TraversabilityConfig paper;
+  Traversability::Config paper;
   ClassifyFaces(paper, &sliver);
   EXPECT_EQ(sliver.face_traversable[0], 0);
-  TraversabilityConfig noisy;
+  Traversability::Config noisy;
   noisy.noise_floor_m = 0.05;
   ClassifyFaces(noisy, &sliver);
   ClassifyFaces(noisy, &ceiling);
@@ -117,11 +117,11 @@ TEST(TraversabilityTest, NoiseFloorOnASlopeJudgesSliversAgainstTheLocalSurface) 
   // On a 25 deg slope, 4 cm of noise tilts many 0.2 m faces past 30 deg; the paper's rule rejects
   // them, the noise floor (relief across the local surface) keeps them. A 35 deg slope with the same
   // noise stays non-traversable: its local surface fails the angle test.
-  TraversabilityConfig paper;
-  TraversabilityConfig noisy;
+  Traversability::Config paper;
+  Traversability::Config noisy;
   noisy.noise_floor_m = 0.05;
   noisy.noise_floor_on_slopes = true;
-  TraversabilityConfig flat_only;
+  Traversability::Config flat_only;
   flat_only.noise_floor_m = 0.05;
   FreeSpaceMesh gentle = NoisySlope(25.0, 0.02);
   const int faces = static_cast<int>(gentle.triangles.size());
@@ -156,7 +156,7 @@ TEST(TraversabilityTest, NoiseFloorOnASlopeJudgesSliversAgainstTheLocalSurface) 
 }
 
 TEST(TraversabilityTest, DegenerateAndViewpointFacesAreNotTraversable) {
-  TraversabilityConfig config;
+  Traversability::Config config;
   FreeSpaceMesh mesh;
   mesh.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0)};
   mesh.triangles = {{0, 1, 2}, {0, 1, 3}};
@@ -168,13 +168,13 @@ TEST(TraversabilityTest, DegenerateAndViewpointFacesAreNotTraversable) {
 }
 
 TEST(TraversabilityTest, ConfigIsValidated) {
-  TraversabilityConfig config;
+  Traversability::Config config;
   config.alpha_max_rad = 0.0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  config = TraversabilityConfig{};
+  config = Traversability::Config{};
   config.delta_h_max_m = -1.0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  config = TraversabilityConfig{};
+  config = Traversability::Config{};
   config.up = Vec3(0, 0, 2);
   EXPECT_THROW(config.Validate(), std::invalid_argument);
 }

@@ -108,7 +108,7 @@ TEST(VertexCloudTest, NormalIsTheMeanOfAdjacentFacesAndFlagNeedsAllFaces) {
   mesh.source_index = {0, 1, 2, 3, -1};
   mesh.viewpoint_vertex = 4;
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {1, 4, 2}};  // not closed; enough for the per-vertex rules
-  ClassifyFaces(TraversabilityConfig{}, &mesh);
+  ClassifyFaces(Traversability::Config{}, &mesh);
   ASSERT_EQ(mesh.face_traversable[0], 1);
   ASSERT_EQ(mesh.face_traversable[1], 0);
   const TraversabilityCloud cloud = BuildTraversabilityCloud(mesh);

@@ -25,7 +25,7 @@ TEST(LocalGoalTest, FarthestRoutePointInsideTheMap) {
   // The route runs along y = 0 far beyond the map's edge at x = 11.
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {0.0, 0.0}, {40.0, 0.0}};
   const VehicleBox vehicle;
-  const auto goal = SelectLocalGoal(*Flat().map, vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalConfig{});
+  const auto goal = SelectLocalGoal(*Flat().map, vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalSelection::Config{});
   ASSERT_TRUE(goal.has_value());
   EXPECT_FALSE(goal->is_route_end);
   EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
@@ -37,7 +37,7 @@ TEST(LocalGoalTest, FarthestRoutePointInsideTheMap) {
   EXPECT_NEAR(goal->route_progress_m, goal->pose.x_m + 20.0, 1e-9);
 
   // Only requiring known, traversable ground lets the goal go up to the map's rim.
-  LocalGoalConfig loose;
+  LocalGoalSelection::Config loose;
   loose.require_vehicle_fit = false;
   const auto rim = SelectLocalGoal(*Flat().map, vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, loose);
   ASSERT_TRUE(rim.has_value());
@@ -52,7 +52,7 @@ TEST(LocalGoalTest, RouteInTheOdometryFrameAndHeadingAlongTheRoute) {
   // In L: from (-7, -3) north to (-7, 3), then east to (5, 3), then the route ends.
   const std::vector<Eigen::Vector2d> route_O = {{93.0, 47.0}, {93.0, 53.0}, {105.0, 53.0}};
   const auto goal =
-      SelectLocalGoal(*Flat().map, VehicleBox{}, route_O, T_L_O, Pose2{-7.0, -3.0, kPi / 2}, LocalGoalConfig{});
+      SelectLocalGoal(*Flat().map, VehicleBox{}, route_O, T_L_O, Pose2{-7.0, -3.0, kPi / 2}, LocalGoalSelection::Config{});
   ASSERT_TRUE(goal.has_value());
   EXPECT_TRUE(goal->is_route_end);
   EXPECT_NEAR(goal->pose.x_m, 5.0, 1e-9);
@@ -63,7 +63,7 @@ TEST(LocalGoalTest, RouteInTheOdometryFrameAndHeadingAlongTheRoute) {
 
 TEST(LocalGoalTest, AtLeastTheMinimumDistanceAheadUnlessItIsTheEnd) {
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {-2.0, 0.0}, {20.0, 0.0}};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.min_distance_m = 30.0;  // no point of the route inside the map is that far
   EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config));
   // The route's end qualifies at any distance.
@@ -77,7 +77,7 @@ TEST(LocalGoalTest, AtLeastTheMinimumDistanceAheadUnlessItIsTheEnd) {
 TEST(LocalGoalTest, NothingBehindTheVehicle) {
   // The vehicle is at the corner of the route; what is left of the route leaves the map within 9 m.
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {8.5, 0.0}, {8.5, 40.0}};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.min_distance_m = 10.0;  // the route's start, 15 m behind, would qualify
   EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{8.0, 0.0, 0.0}, config));
   // Closer goals ahead are found, on the second leg.
@@ -88,15 +88,15 @@ TEST(LocalGoalTest, NothingBehindTheVehicle) {
   EXPECT_GE(goal->pose.y_m, 4.0);
   EXPECT_NEAR(goal->pose.yaw_rad, kPi / 2, 1e-12);
 
-  LocalGoalConfig bad;
+  LocalGoalSelection::Config bad;
   bad.step_m = 0.0;
   EXPECT_THROW(SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{}, bad), std::invalid_argument);
-  EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, {}, kIdentity, Pose2{}, LocalGoalConfig{}));
+  EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, {}, kIdentity, Pose2{}, LocalGoalSelection::Config{}));
 }
 
 TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFurther) {
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {20.0, 0.0}};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   const auto fresh = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(fresh.has_value());
   // A previous goal 1.5 m beside the route, 1 m short of the new one: it scores 1 m of progress
@@ -148,7 +148,7 @@ TEST(LocalGoalTest, AGoalBesideTheRoutesEndGivesWayToTheEnd) {
   const VertexCloudMap map(FlatGround(), VertexCloudMap::Config{});
   const std::vector<Eigen::Vector2d> route = {{-3.0, 0.0}, {8.0, 0.0}};
   const Pose2 vehicle{2.0, -3.0, 0.0};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.min_distance_m = 2.5;
   config.lateral_offsets_m = {1.5, 3.0};
   config.keep_previous_within_m = 1.0;
@@ -190,7 +190,7 @@ VertexCloudMap WallAcrossTheRoute() {
 TEST(LocalGoalTest, AWideOffsetWinsWhenItGetsMuchFurther) {
   const VertexCloudMap map = WallAcrossTheRoute();
   const std::vector<Eigen::Vector2d> route = {{-3.0, 0.0}, {30.0, 0.0}};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.min_distance_m = 2.0;
   config.lateral_offsets_m = {1.5, 4.5};
   // On the route and 1.5 m beside it the map ends at the wall; 4.5 m beside it the vehicle passes
@@ -232,7 +232,7 @@ TEST(LocalGoalTest, TheLastMetreOfTheRouteStandsInForItsEnd) {
   const std::vector<Eigen::Vector2d> route = {{-3.0, 0.0}, {8.0, 0.0}};
   const Pose2 vehicle{6.5, 0.0, 0.0};
   ASSERT_EQ(CheckPose(map, VehicleBox{}, Pose2{8.0, 0.0, 0.0}), PoseCheck::kCollision);
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.min_distance_m = 2.5;
   config.lateral_offsets_m = {1.5, 3.0};
   const auto beside = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, vehicle, config);
@@ -262,7 +262,7 @@ TEST(LocalGoalTest, RouteProgressInAWindowIsNotFooledByLapsSideBySide) {
 TEST(LocalGoalTest, CandidatesEndWhereTheRouteLeavesTheMapForLongerThanTheGap) {
   // The route leaves the flat map (x beyond about 11) and comes back into it on the way home.
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {40.0, 0.0}, {40.0, 3.0}, {-7.0, 3.0}};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   const auto no_limit = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(no_limit.has_value());
   EXPECT_GT(no_limit->route_progress_m, 50.0);  // on the way home: cuts the route short
@@ -283,7 +283,7 @@ TEST(LocalGoalTest, CandidatesEndAtMostMaxAheadAlongTheRoute) {
   // A hairpin inside the map: out along y = 0, back along y = 3. No gap stops the candidates, so
   // without a limit the goal lies on the way back and skips the turn.
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {6.0, 0.0}, {6.0, 3.0}, {-7.0, 3.0}};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.max_gap_m = 8.0;
   const auto no_limit = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(no_limit.has_value());
@@ -300,7 +300,7 @@ TEST(LocalGoalTest, CandidatesEndAtMostMaxAheadAlongTheRoute) {
   ASSERT_EQ(later.size(), 1u);
   EXPECT_GT(later.front().route_progress_m, 8.0);
   EXPECT_LE(later.front().route_progress_m, 16.0 + 1e-9);
-  LocalGoalConfig bad;
+  LocalGoalSelection::Config bad;
   bad.max_ahead_m = 0.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
@@ -337,10 +337,10 @@ TEST(LocalGoalTest, ReachableGoalTakesTheWayRoundAWallTheRouteRunsInto) {
   const VehicleBox vehicle;
   const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {30.0, 0.0}};
   const Pose2 start{-5.0, 0.0, 0.0};
-  LocalGoalConfig config;
+  LocalGoalSelection::Config config;
   config.max_gap_m = 8.0;
   // The reachable goal lies past the wall, where the vehicle gets only through the gap.
-  config.mode = LocalGoalConfig::Mode::kReachable;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
   const auto goals = SelectLocalGoals(map, vehicle, route, kIdentity, start, config, std::nullopt, 3);
   ASSERT_FALSE(goals.empty());
   const LocalGoal& best = goals.front();
@@ -365,8 +365,8 @@ TEST(LocalGoalTest, ReachableGoalTakesTheWayRoundAWallTheRouteRunsInto) {
     bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m) && !(x_m >= 4.0 && x_m <= 5.0); }
   };
   const Closed closed;
-  LocalGoalConfig route_rule = config;
-  route_rule.mode = LocalGoalConfig::Mode::kRoute;
+  LocalGoalSelection::Config route_rule = config;
+  route_rule.mode = LocalGoalSelection::Config::Mode::kRoute;
   const auto on_route = SelectLocalGoal(closed, vehicle, route, kIdentity, start, route_rule);
   ASSERT_TRUE(on_route.has_value());
   EXPECT_GT(on_route->pose.x_m, 5.0);
@@ -377,15 +377,15 @@ TEST(LocalGoalTest, ReachableGoalTakesTheWayRoundAWallTheRouteRunsInto) {
 
 TEST(LocalGoalTest, ReachableGoalOnOpenGroundFollowsTheRoute) {
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {0.0, 0.0}, {40.0, 0.0}};
-  LocalGoalConfig config;
-  config.mode = LocalGoalConfig::Mode::kReachable;
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
   const auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(goal.has_value());
   EXPECT_GT(goal->pose.x_m, 5.0);  // near the map's far rim along the route
   EXPECT_LT(std::abs(goal->pose.y_m), 1.5);
   EXPECT_EQ(CheckPose(*Flat().map, VehicleBox{}, goal->pose), PoseCheck::kValid);
   // Weighing the distance from the route keeps the goal on it here (and never moves it away).
-  LocalGoalConfig near_route = config;
+  LocalGoalSelection::Config near_route = config;
   near_route.reach_offset_penalty = 0.5;
   const auto on_route = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, near_route);
   ASSERT_TRUE(on_route.has_value());
@@ -421,8 +421,8 @@ TEST(LocalGoalTest, ReachableGoalStaysOnGroundDenseEnoughToStandOn) {
                            map_config);
   const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {40.0, 0.0}};
   const Pose2 start{-6.0, 0.0, 0.0};
-  LocalGoalConfig config;
-  config.mode = LocalGoalConfig::Mode::kReachable;
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
   // Any distance to the nearest point: the goal goes out over the sparse ground.
   const auto anywhere = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
   ASSERT_TRUE(anywhere.has_value());

@@ -15,7 +15,7 @@ ReplanInputs Standing(double now_s) {
 }
 
 TEST(ReplanTest, EachTriggerOfThePaper) {
-  const ReplanConfig config;  // 1 s, 2 m
+  const Replanning::Config config;  // 1 s, 2 m
   EXPECT_EQ(CheckReplan(config, Standing(10.5)), ReplanReason::kNone);
   // (iii) one second of simulated time.
   EXPECT_EQ(CheckReplan(config, Standing(10.999)), ReplanReason::kNone);
@@ -43,14 +43,14 @@ TEST(ReplanTest, ReasonsComeInTheOrderOfTheEnum) {
   ReplanInputs all = Standing(20.0);
   all.path_blocked = true;
   all.distance_to_goal_m = 0.5;
-  EXPECT_EQ(CheckReplan(ReplanConfig{}, all), ReplanReason::kPathBlocked);
+  EXPECT_EQ(CheckReplan(Replanning::Config{}, all), ReplanReason::kPathBlocked);
   all.path_blocked = false;
-  EXPECT_EQ(CheckReplan(ReplanConfig{}, all), ReplanReason::kGoalTooClose);
+  EXPECT_EQ(CheckReplan(Replanning::Config{}, all), ReplanReason::kGoalTooClose);
   EXPECT_STREQ(ReplanReasonName(ReplanReason::kPeriodElapsed), "period elapsed");
 }
 
 TEST(ReplanTest, AFarBlockMustPersistANearOneActsAtOnce) {
-  ReplanConfig config;
+  Replanning::Config config;
   config.blocked_confirmations = 2;
   config.blocked_near_m = 3.0;
   ReplanInputs far = Standing(10.1);
@@ -70,23 +70,23 @@ TEST(ReplanTest, AFarBlockMustPersistANearOneActsAtOnce) {
   EXPECT_EQ(CheckReplan(config, far), ReplanReason::kPeriodElapsed);
   // The paper's rule (the default): the first update that finds the path blocked.
   far.now_s = 10.1;
-  EXPECT_EQ(CheckReplan(ReplanConfig{}, far), ReplanReason::kPathBlocked);
+  EXPECT_EQ(CheckReplan(Replanning::Config{}, far), ReplanReason::kPathBlocked);
 }
 
 TEST(ReplanTest, ConfigIsValidated) {
-  ReplanConfig config;
+  Replanning::Config config;
   config.period_s = 0.0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  config = ReplanConfig{};
+  config = Replanning::Config{};
   config.goal_too_close_m = -1.0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  config = ReplanConfig{};
+  config = Replanning::Config{};
   config.blocked_confirmations = 0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  config = ReplanConfig{};
+  config = Replanning::Config{};
   config.blocked_near_m = -0.5;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  EXPECT_NO_THROW(ReplanConfig{}.Validate());
+  EXPECT_NO_THROW(Replanning::Config{}.Validate());
 }
 
 }  // namespace

@@ -147,7 +147,7 @@ TEST(RunConfigTest, PrintedConfigReadsBackAsAPresetToTheSameConfig) {
                                    Preset{printed, "printed.yaml"});
   EXPECT_EQ(FormatRunConfig(b, 4), printed);
   EXPECT_EQ(b.navigator.planner.vehicle.placement, planner::VehicleBox::Placement::kWheelContacts);
-  EXPECT_EQ(b.navigator.local_goal.mode, planner::LocalGoalConfig::Mode::kReachable);
+  EXPECT_EQ(b.navigator.local_goal.mode, planner::LocalGoalSelection::Config::Mode::kReachable);
 }
 
 TEST(RunConfigTest, BadPresetsAndTheOldParamsSectionAreErrorsNamingFileAndLine) {

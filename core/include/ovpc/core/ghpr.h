@@ -13,15 +13,18 @@ enum class GhprKernel {
   kLinear,       ///< f(d) = gamma - d, gamma > max d (gamma = 2R is spherical flipping)
 };
 
-struct GhprConfig {
-  GhprKernel kernel = GhprKernel::kExponential;
-  double gamma = -0.03;
-  /// Compute every hull with CGAL's quickhull instead of the project's incremental hull. Both are
-  /// exact and give the same mesh; CGAL's is slower and is the reference in tests and benchmarks.
-  /// The incremental hull hands degenerate clouds (coplanar or duplicate points) to CGAL anyway.
-  bool reference_hull = false;
-  /// @throws std::invalid_argument if gamma has the wrong sign for the kernel or is not finite.
-  void Validate() const;
+/// The GHPR operator (ComputeGhpr).
+struct Ghpr {
+  struct Config {
+    GhprKernel kernel = GhprKernel::kExponential;
+    double gamma = -0.03;
+    /// Compute every hull with CGAL's quickhull instead of the project's incremental hull. Both are
+    /// exact and give the same mesh; CGAL's is slower and is the reference in tests and benchmarks.
+    /// The incremental hull hands degenerate clouds (coplanar or duplicate points) to CGAL anyway.
+    bool reference_hull = false;
+    /// @throws std::invalid_argument if gamma has the wrong sign for the kernel or is not finite.
+    void Validate() const;
+  };
 };
 
 const char* KernelName(GhprKernel kernel);
@@ -58,6 +61,6 @@ struct GhprResult {
 /// @pre every point is finite and farther than a few micrometres from the viewpoint (the mapper
 ///      drops the others and counts them).
 /// @throws std::invalid_argument for an invalid config or a point that breaks the precondition.
-GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const GhprConfig& config);
+GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::Config& config);
 
 }  // namespace ovpc

@@ -41,8 +41,8 @@ struct OvpcMap {
 class OvpcMapper {
  public:
   struct Config {
-    GhprConfig ghpr;
-    TraversabilityConfig traversability;
+    Ghpr::Config ghpr;
+    Traversability::Config traversability;
     double min_range_m = 1e-3;  ///< points closer to the viewpoint are dropped as "at the viewpoint" (>= 1e-5)
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
@@ -53,7 +53,7 @@ class OvpcMapper {
   explicit OvpcMapper(const Config& config);
 
   /// Builds the map from `points` (any frame whose z axis is gravity-up, see
-  /// TraversabilityConfig::up) seen from `viewpoint`. Never throws on bad data: NaN/inf points and
+  /// Traversability::Config::up) seen from `viewpoint`. Never throws on bad data: NaN/inf points and
   /// points at the viewpoint are dropped and counted; too few or degenerate points give a status.
   OvpcMap Update(const Points& points, const Vec3& viewpoint) const;
 

@@ -53,14 +53,14 @@ void VisitFields(V& v, MapPreparation::Config& c) {
 }
 
 template <class V>
-void VisitFields(V& v, GhprConfig& c) {
+void VisitFields(V& v, Ghpr::Config& c) {
   v.Choice("kernel", c.kernel, {{"exponential", GhprKernel::kExponential}, {"linear", GhprKernel::kLinear}});
   v.Field("gamma", c.gamma);
   v.Field("reference_hull", c.reference_hull);
 }
 
 template <class V>
-void VisitFields(V& v, TraversabilityConfig& c) {
+void VisitFields(V& v, Traversability::Config& c) {
   v.Field("alpha_max_rad", c.alpha_max_rad);
   v.Field("delta_h_max_m", c.delta_h_max_m);
   v.Field("noise_floor_m", c.noise_floor_m);
@@ -114,9 +114,9 @@ void VisitFields(V& v, planner::LocalPlanner::Config& c) {
 }
 
 template <class V>
-void VisitFields(V& v, planner::LocalGoalConfig& c) {
-  v.Choice("mode", c.mode, {{"route", planner::LocalGoalConfig::Mode::kRoute},
-                            {"reachable", planner::LocalGoalConfig::Mode::kReachable}});
+void VisitFields(V& v, planner::LocalGoalSelection::Config& c) {
+  v.Choice("mode", c.mode, {{"route", planner::LocalGoalSelection::Config::Mode::kRoute},
+                            {"reachable", planner::LocalGoalSelection::Config::Mode::kReachable}});
   v.Field("cell_m", c.cell_m);
   v.Field("reach_offset_penalty", c.reach_offset_penalty);
   v.Field("reach_support_m", c.reach_support_m);
@@ -132,7 +132,7 @@ void VisitFields(V& v, planner::LocalGoalConfig& c) {
 }
 
 template <class V>
-void VisitFields(V& v, planner::ReplanConfig& c) {
+void VisitFields(V& v, planner::Replanning::Config& c) {
   v.Field("period_s", c.period_s);
   v.Field("goal_too_close_m", c.goal_too_close_m);
   v.Field("blocked_confirmations", c.blocked_confirmations);

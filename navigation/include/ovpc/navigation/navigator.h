@@ -104,8 +104,8 @@ class Navigator {
     /// The default planner. Its vehicle box's geometry (length, width, height, centre, wheelbase,
     /// track) and turning radius are derived from `vehicle`; the box's rules are set here.
     planner::LocalPlanner::Config planner;
-    planner::LocalGoalConfig local_goal;
-    planner::ReplanConfig replan;
+    planner::LocalGoalSelection::Config local_goal;
+    planner::Replanning::Config replan;
     /// The default follower; wheelbase and steering limit are derived from `vehicle`.
     controller::PurePursuit::Config follower;
     /// Local goal candidates tried per re-plan, best first, until one gives a path.

@@ -13,66 +13,69 @@
 
 namespace ovpc::planner {
 
-struct LocalGoalConfig {
-  /// kRoute: the farthest qualifying point on the route or on a line beside it (the paper's rule,
-  /// with offsets). kReachable: a cost-to-go field over a planar grid of the map, from the last
-  /// route point ahead in the grid (which costs its remaining route length) through
-  /// known-traversable and unknown cells around known non-traversable ones, and the goal is the
-  /// place the vehicle can reach over known-traversable cells that has the least cost to go: when
-  /// the route runs into a wall or a too-steep slope, the goal moves to the way round it that the
-  /// map shows (a ramp's lane to the side), not to the foot of the wall.
-  enum class Mode { kRoute, kReachable };
-  Mode mode = Mode::kRoute;
-  /// kReachable: grid cell edge length.
-  double cell_m = 0.5;
-  /// kReachable: candidates are ranked by cost to go plus this many metres per metre away from the
-  /// route ahead, so that of two ways round an obstacle about as long the one nearer the route wins.
-  double reach_offset_penalty = 0.0;
-  /// kReachable: a cell is known traversable only if the visible point its centre projects onto lies
-  /// within this distance of it (in the plane). The planner stands a wheel only within the vehicle's
-  /// wheel_support_m of a visible point, so with that value the reach stays on ground the planner
-  /// can plan over; far from the sensor the ground is sparse, and a goal reached over it is often
-  /// one no path leads to. Infinite: any distance (the nearest point decides).
-  double reach_support_m = std::numeric_limits<double>::infinity();
-  /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
-  double min_distance_m = 4.0;
-  /// kRoute: route points this close (along the route) to its last waypoint count as its end: they
-  /// qualify at any distance from the vehicle and are goals at the route's end. When noise makes the
-  /// last waypoint's own pose fail, the vehicle then heads for the route just short of it instead of
-  /// for a point beside the route at least min_distance_m away. 0: only the last waypoint.
-  double end_zone_m = 0.0;
-  /// The route is examined at this spacing between its waypoints.
-  double step_m = 0.25;
-  /// Also require that the vehicle box fits at the goal (CheckPose), not only that the place is
-  /// known free, so that the planner does not reject the goal.
-  bool require_vehicle_fit = true;
-  /// Points this far to either side of the route (perpendicular to it) are candidates too: the route
-  /// may run through a post's shadow, or under a roof too low to pass, while the ground beside it is
-  /// known. Empty: the route only (the paper's rule).
-  std::vector<double> lateral_offsets_m;
-  /// Among the offsets, the goal with the most route progress less this many metres per metre of
-  /// offset, and less the length the offset adds to the straight way to the route's end
-  /// (hypot(remaining, offset) - remaining: about nothing far from the end, the whole offset at the
-  /// end), wins (ties: the smaller offset): a wide detour is taken when it gets much further.
-  double lateral_offset_penalty = 0.5;
-  /// Keep the previous goal, if it still qualifies, unless the new one scores more than this much
-  /// higher (kRoute: route progress less the offset's penalty and detour, as in the ranking below;
-  /// a goal beside the route's end therefore gives way to the end itself once that qualifies):
-  /// goals flickering between the two sides of a post make paths that undo each other. 0: always
-  /// take the new goal (the paper's rule).
-  double keep_previous_within_m = 0.0;
-  /// Route points are candidates from the vehicle on until the route has run outside known free
-  /// space for this long: past a longer gap the route may come back into the map further on (laps
-  /// side by side, a loop), and a goal there would cut the route short. Infinite: the whole route
-  /// ahead (the paper's rule).
-  double max_gap_m = std::numeric_limits<double>::infinity();
-  /// Route points are candidates only up to this much route length ahead of the vehicle's progress.
-  /// Where the route comes back near itself inside known free space (a spiral's last laps), a goal
-  /// further on would skip the part in between; max_gap_m does not stop that when no gap lies
-  /// between. Infinite: the whole route ahead (the paper's rule).
-  double max_ahead_m = std::numeric_limits<double>::infinity();
-  /// @throws std::invalid_argument naming the offending field.
-  void Validate() const;
+/// The local goal on the route (SelectLocalGoal, SelectLocalGoals).
+struct LocalGoalSelection {
+  struct Config {
+    /// kRoute: the farthest qualifying point on the route or on a line beside it (the paper's rule,
+    /// with offsets). kReachable: a cost-to-go field over a planar grid of the map, from the last
+    /// route point ahead in the grid (which costs its remaining route length) through
+    /// known-traversable and unknown cells around known non-traversable ones, and the goal is the
+    /// place the vehicle can reach over known-traversable cells that has the least cost to go: when
+    /// the route runs into a wall or a too-steep slope, the goal moves to the way round it that the
+    /// map shows (a ramp's lane to the side), not to the foot of the wall.
+    enum class Mode { kRoute, kReachable };
+    Mode mode = Mode::kRoute;
+    /// kReachable: grid cell edge length.
+    double cell_m = 0.5;
+    /// kReachable: candidates are ranked by cost to go plus this many metres per metre away from the
+    /// route ahead, so that of two ways round an obstacle about as long the one nearer the route wins.
+    double reach_offset_penalty = 0.0;
+    /// kReachable: a cell is known traversable only if the visible point its centre projects onto lies
+    /// within this distance of it (in the plane). The planner stands a wheel only within the vehicle's
+    /// wheel_support_m of a visible point, so with that value the reach stays on ground the planner
+    /// can plan over; far from the sensor the ground is sparse, and a goal reached over it is often
+    /// one no path leads to. Infinite: any distance (the nearest point decides).
+    double reach_support_m = std::numeric_limits<double>::infinity();
+    /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
+    double min_distance_m = 4.0;
+    /// kRoute: route points this close (along the route) to its last waypoint count as its end: they
+    /// qualify at any distance from the vehicle and are goals at the route's end. When noise makes the
+    /// last waypoint's own pose fail, the vehicle then heads for the route just short of it instead of
+    /// for a point beside the route at least min_distance_m away. 0: only the last waypoint.
+    double end_zone_m = 0.0;
+    /// The route is examined at this spacing between its waypoints.
+    double step_m = 0.25;
+    /// Also require that the vehicle box fits at the goal (CheckPose), not only that the place is
+    /// known free, so that the planner does not reject the goal.
+    bool require_vehicle_fit = true;
+    /// Points this far to either side of the route (perpendicular to it) are candidates too: the route
+    /// may run through a post's shadow, or under a roof too low to pass, while the ground beside it is
+    /// known. Empty: the route only (the paper's rule).
+    std::vector<double> lateral_offsets_m;
+    /// Among the offsets, the goal with the most route progress less this many metres per metre of
+    /// offset, and less the length the offset adds to the straight way to the route's end
+    /// (hypot(remaining, offset) - remaining: about nothing far from the end, the whole offset at the
+    /// end), wins (ties: the smaller offset): a wide detour is taken when it gets much further.
+    double lateral_offset_penalty = 0.5;
+    /// Keep the previous goal, if it still qualifies, unless the new one scores more than this much
+    /// higher (kRoute: route progress less the offset's penalty and detour, as in the ranking below;
+    /// a goal beside the route's end therefore gives way to the end itself once that qualifies):
+    /// goals flickering between the two sides of a post make paths that undo each other. 0: always
+    /// take the new goal (the paper's rule).
+    double keep_previous_within_m = 0.0;
+    /// Route points are candidates from the vehicle on until the route has run outside known free
+    /// space for this long: past a longer gap the route may come back into the map further on (laps
+    /// side by side, a loop), and a goal there would cut the route short. Infinite: the whole route
+    /// ahead (the paper's rule).
+    double max_gap_m = std::numeric_limits<double>::infinity();
+    /// Route points are candidates only up to this much route length ahead of the vehicle's progress.
+    /// Where the route comes back near itself inside known free space (a spiral's last laps), a goal
+    /// further on would skip the part in between; max_gap_m does not stop that when no gap lies
+    /// between. Infinite: the whole route ahead (the paper's rule).
+    double max_ahead_m = std::numeric_limits<double>::infinity();
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
 };
 
 struct LocalGoal {
@@ -97,7 +100,7 @@ struct LocalGoal {
 std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBox& vehicle,
                                          const std::vector<Eigen::Vector2d>& route_O,
                                          const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                         const LocalGoalConfig& config,
+                                         const LocalGoalSelection::Config& config,
                                          const std::optional<LocalGoal>& previous_L = std::nullopt);
 
 /// The candidates SelectLocalGoal ranks, best first, at most `max_count`: the previous goal (if it
@@ -108,7 +111,7 @@ std::optional<LocalGoal> SelectLocalGoal(const PlanningMap& map, const VehicleBo
 std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox& vehicle,
                                         const std::vector<Eigen::Vector2d>& route_O,
                                         const Eigen::Isometry3d& T_L_O, const Pose2& vehicle_L,
-                                        const LocalGoalConfig& config, const std::optional<LocalGoal>& previous_L,
+                                        const LocalGoalSelection::Config& config, const std::optional<LocalGoal>& previous_L,
                                         std::size_t max_count,
                                         std::optional<double> vehicle_progress_m = std::nullopt);
 

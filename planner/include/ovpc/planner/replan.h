@@ -10,22 +10,25 @@ enum class ReplanReason {
   kNone,
   kNoPath,         ///< there is no current path (first plan, or the last attempt failed)
   kPathBlocked,    ///< the rest of the current path fails the validity check on the newest map
-  kGoalTooClose,   ///< the local goal is closer than ReplanConfig::goal_too_close_m (not the route end)
-  kPeriodElapsed,  ///< ReplanConfig::period_s of simulated time since the last plan
+  kGoalTooClose,   ///< the local goal is closer than Replanning::Config::goal_too_close_m (not the route end)
+  kPeriodElapsed,  ///< Replanning::Config::period_s of simulated time since the last plan
 };
 const char* ReplanReasonName(ReplanReason reason);
 
-struct ReplanConfig {
-  double period_s = 1.0;
-  double goal_too_close_m = 2.0;
-  /// A blocked path triggers a re-plan once it has been blocked after this many map updates in a
-  /// row (1: after every update that finds it blocked, the paper's rule), unless the first blocked
-  /// pose is nearer than `blocked_near_m`. Noise flickers single poses far along the path in and out
-  /// of collision; waiting for a second update filters that without delaying near blocks.
-  int blocked_confirmations = 1;
-  double blocked_near_m = 0.0;
-  /// @throws std::invalid_argument naming the offending field.
-  void Validate() const;
+/// The re-planning triggers (CheckReplan).
+struct Replanning {
+  struct Config {
+    double period_s = 1.0;
+    double goal_too_close_m = 2.0;
+    /// A blocked path triggers a re-plan once it has been blocked after this many map updates in a
+    /// row (1: after every update that finds it blocked, the paper's rule), unless the first blocked
+    /// pose is nearer than `blocked_near_m`. Noise flickers single poses far along the path in and out
+    /// of collision; waiting for a second update filters that without delaying near blocks.
+    int blocked_confirmations = 1;
+    double blocked_near_m = 0.0;
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
 };
 
 struct ReplanInputs {
@@ -40,6 +43,6 @@ struct ReplanInputs {
 };
 
 /// The first reason that applies, in the order of the enum; kNone if the current path stands.
-ReplanReason CheckReplan(const ReplanConfig& config, const ReplanInputs& inputs);
+ReplanReason CheckReplan(const Replanning::Config& config, const ReplanInputs& inputs);
 
 }  // namespace ovpc::planner

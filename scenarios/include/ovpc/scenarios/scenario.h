@@ -33,12 +33,14 @@ struct Criteria {
   std::vector<Region> forbidden;
 };
 
-/// What the testbed records of a run (not the robot's settings), in simulated time.
-struct RecordConfig {
-  double record_rate_hz = 10.0;          ///< trajectory rows
-  double mesh_snapshot_period_s = 10.0;  ///< mesh_*.ply snapshots (0: none)
-  /// @throws std::invalid_argument naming the offending field.
-  void Validate() const;
+/// What the testbed records of a run (the Recorder; not the robot's settings), in simulated time.
+struct Recording {
+  struct Config {
+    double record_rate_hz = 10.0;          ///< trajectory rows
+    double mesh_snapshot_period_s = 10.0;  ///< mesh_*.ply snapshots (0: none)
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
 };
 
 struct Scenario {
@@ -50,7 +52,7 @@ struct Scenario {
   sim::Simulator::Config sim;       ///< world, vehicle, start pose, sensor faults, odometry faults
   std::vector<Eigen::Vector2d> route_m;  ///< global route, world frame (= odometry frame at start)
   navigation::Navigator::Config navigator;  ///< the robot's stack
-  RecordConfig record;
+  Recording::Config record;
   Criteria criteria;
   std::vector<std::string> labels;  ///< e.g. "long": kept out of the default suite
 
