@@ -12,6 +12,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using planner::Pose2;
 
+// The tick after `due_s` (which is at or before `time_s`): one period on, or, for a caller that fell
+// more than a period behind, the first tick after `time_s` (it is not run once per missed tick).
+double NextTick(double time_s, double due_s, double period_s) {
+  const double next = due_s + period_s;
+  if (!(time_s + 1e-9 >= next)) return next;
+  const double after = (std::floor((time_s + 1e-9) / period_s) + 1.0) * period_s;
+  return time_s + 1e-9 >= after ? after + period_s : after;  // rounding may leave it at time_s
+}
+
 double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // A path in another frame with the same axes (the map frame L and the odometry frame O differ by a
@@ -51,15 +60,16 @@ Pose2 ToPose2(const Eigen::Isometry3d& T) {
 
 void Navigator::Config::Validate() const {
   const auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
-  if (!(map_rate_hz > 0.0) || !std::isfinite(map_rate_hz)) fail("navigator.map_rate_hz must be > 0");
-  if (!(control_rate_hz > 0.0) || !std::isfinite(control_rate_hz)) fail("navigator.control_rate_hz must be > 0");
+  if (!(map_rate_hz > 0.0) || !(map_rate_hz <= 100.0)) fail("navigator.map_rate_hz must be in (0, 100]");
+  if (!(control_rate_hz > 0.0) || !(control_rate_hz <= 1000.0)) fail("navigator.control_rate_hz must be in (0, 1000]");
   if (goal_candidates < 1) fail("navigator.goal_candidates must be >= 1");
   if (!std::isfinite(known_support_margin_m) || known_support_margin_m > 2.0) {
     fail("navigator.known_support_margin_m must be at most 2 (negative disables)");
   }
   if (!(blocked_stop_short_m >= 0.0) || !std::isfinite(blocked_stop_short_m)) fail("navigator.blocked_stop_short_m must be >= 0");
   if (!(min_prefix_m >= 0.0) || !std::isfinite(min_prefix_m)) fail("navigator.min_prefix_m must be >= 0");
-  if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0)) {
+  if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0) || !std::isfinite(progress_back_m) ||
+      !std::isfinite(progress_ahead_m)) {
     fail("navigator.progress_back_m must be >= 0 and progress_ahead_m > 0");
   }
   vehicle.Validate();
@@ -105,8 +115,7 @@ Navigator::~Navigator() = default;
 
 controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps) {
   if (time_s + 1e-9 >= next_control_s_) {
-    // The next tick after this one (a caller that fell behind is not run once per missed tick).
-    while (time_s + 1e-9 >= next_control_s_) next_control_s_ += 1.0 / config_.control_rate_hz;
+    next_control_s_ = NextTick(time_s, next_control_s_, 1.0 / config_.control_rate_hz);
     const auto t = Clock::now();
     command_ = follower_->has_path() ? follower_->Update(ToPose2(T_O_B), speed_mps) : controller::Command{0.0, 0.0, true};
     t_controller_.Add(MsSince(t));
@@ -124,7 +133,7 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   progress_m_ = planner::RouteProgress(route_O_, T_O_B.translation().head<2>(), progress_m_, config_.progress_back_m,
                                        config_.progress_ahead_m);
   if (!(time_s + 1e-9 >= next_map_s_)) return false;
-  while (time_s + 1e-9 >= next_map_s_) next_map_s_ += 1.0 / config_.map_rate_hz;
+  next_map_s_ = NextTick(time_s, next_map_s_, 1.0 / config_.map_rate_hz);
   MapCycle(time_s, T_O_B);
   return true;
 }
@@ -234,8 +243,10 @@ bool Navigator::PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std:
   }
   *closest_out = closest;
   const auto invalid = planner_->FirstInvalidPose(*c.map, Shifted(path_O_, -c.L_to_O), closest);
-  if (invalid) *blocked_index = *invalid;
-  return invalid.has_value();
+  if (!invalid) return false;
+  // A planner's index past the path's end counts as its last pose.
+  *blocked_index = std::min(*invalid, poses.size() - 1);
+  return true;
 }
 
 bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t blocked_index,
@@ -287,7 +298,7 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
     attempt.state_checks = plan.state_checks;
     plan_log_.push_back(attempt);
     cycle->outcome = outcome;
-    if (plan.found()) {
+    if (plan.found() && !plan.path.empty()) {
       ++stats_.replans_found;
       path_O_ = Shifted(plan.path, c.L_to_O);
       follower_->Follow(path_O_);
@@ -326,10 +337,17 @@ void Navigator::KeepValidPrefix(std::size_t closest, std::size_t blocked_index) 
   planner::Path prefix = back >= config_.blocked_stop_short_m ? path_O_.Slice(closest, last) : planner::Path{};
   if (prefix.empty() || prefix.Length() < config_.min_prefix_m) {
     follower_->Clear();
+    path_O_ = planner::Path{};
     return;
   }
   path_O_ = std::move(prefix);
   follower_->Follow(path_O_);
+}
+
+void Navigator::ClearRecords() {
+  plan_log_.clear();
+  cycles_.clear();
+  t_buffer_ = t_mapper_ = t_planner_ = t_controller_ = StageTimer{};
 }
 
 NavigatorStats Navigator::stats() const {

@@ -319,8 +319,14 @@ void LocalGoalSelection::Config::Validate() const {
   if (!(end_zone_m >= 0.0) || !std::isfinite(end_zone_m)) {
     throw std::invalid_argument("LocalGoalSelection::Config: end_zone_m must be >= 0, got " + std::to_string(end_zone_m));
   }
-  if (!(step_m > 0.0) || !std::isfinite(step_m)) {
-    throw std::invalid_argument("LocalGoalSelection::Config: step_m must be > 0, got " + std::to_string(step_m));
+  if (!(step_m >= 0.01) || !(step_m <= 5.0)) {
+    throw std::invalid_argument("LocalGoalSelection::Config: step_m must be in [0.01, 5], got " + std::to_string(step_m));
+  }
+  for (double offset : lateral_offsets_m) {
+    if (!(std::abs(offset) <= 50.0)) {
+      throw std::invalid_argument("LocalGoalSelection::Config: lateral_offsets_m must lie within +-50 m, got " +
+                                  std::to_string(offset));
+    }
   }
 }
 

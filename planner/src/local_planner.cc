@@ -261,6 +261,10 @@ void LocalPlanner::Config::Validate() const {
   positive(turning_radius_m, "turning_radius_m");
   positive(check_resolution_m, "check_resolution_m");
   positive(output_resolution_m, "output_resolution_m");
+  if (!(check_resolution_m >= 0.005) || !(output_resolution_m >= 0.005)) {
+    throw std::invalid_argument("LocalPlanner::Config: check_resolution_m and output_resolution_m must be >= 0.005");
+  }
+  if (!(turning_radius_m <= 100.0)) throw std::invalid_argument("LocalPlanner::Config: turning_radius_m must be <= 100");
   if (!(range_m >= 0.0) || !std::isfinite(range_m)) {
     throw std::invalid_argument("LocalPlanner::Config: range_m must be >= 0 (0: OMPL's default)");
   }

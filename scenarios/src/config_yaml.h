@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <stdexcept>
 #include <initializer_list>
 #include <iomanip>
 #include <limits>
@@ -91,6 +92,7 @@ class MapReader {
 
   void Finish() const {
     for (const auto& kv : node_) {
+      if (!kv.first.IsScalar()) Fail(kv.first, "a key in '" + context_ + "' is not a word");
       const std::string key = kv.first.as<std::string>();
       if (!used_.count(key)) Fail(kv.first, "unknown key '" + Key(key.c_str()) + "'");
     }
@@ -127,7 +129,14 @@ class MapReader {
   std::set<std::string> used_;
 };
 
-/// Reads a Config's fields from a YAML map (keys are the fields' names; unknown keys fail).
+template <class C, class = void>
+struct HasValidate : std::false_type {};
+template <class C>
+struct HasValidate<C, std::void_t<decltype(std::declval<const C&>().Validate())>> : std::true_type {};
+
+/// Reads a Config's fields from a YAML map (keys are the fields' names; unknown keys fail). Each
+/// section is validated as soon as it is read, so that a bad value is reported at its section's
+/// line, in the file it came from.
 class ConfigReader {
  public:
   explicit ConfigReader(MapReader& r) : r_(r) {}
@@ -154,6 +163,13 @@ class ConfigReader {
     ConfigReader sub(m);
     navigation::VisitFields(sub, config);
     m.Finish();
+    if constexpr (HasValidate<C>::value) {
+      try {
+        config.Validate();
+      } catch (const std::invalid_argument& e) {
+        r_.Fail(node, "in '" + r_.Key(key) + "': " + e.what());
+      }
+    }
   }
 
  private:

@@ -67,10 +67,15 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const nav
   if (!view.points_L) return;
   const Eigen::Isometry3d T_W_L = T_W_B * (navigator.map_T_L_B().inverse());
   const auto& pts = *view.points_L;
-  for (std::size_t i = 0; i < pts.size(); i += 7) result_->map_points.push_back({T_W_L * pts[i], (*view.traversable)[i] != 0});
+  // A map without flags (a user's backend may have none) is drawn as traversable.
+  const auto traversable = [&view](std::size_t i) {
+    return !view.traversable || i >= view.traversable->size() || (*view.traversable)[i] != 0;
+  };
+  for (std::size_t i = 0; i < pts.size(); i += 7) result_->map_points.push_back({T_W_L * pts[i], traversable(i)});
   if (renderer_) {
     frame_points_L_ = pts;
-    frame_traversable_ = *view.traversable;
+    frame_traversable_.resize(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) frame_traversable_[i] = traversable(i) ? 1 : 0;
     frame_T_W_L_ = T_W_L;
   }
   const double period = scenario_.record.mesh_snapshot_period_s;

@@ -135,10 +135,15 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
   }
 }
 
-void ReadRecord(MapReader r, Recording::Config* c) {
+void ReadRecord(MapReader r, Recording::Config* c, const YAML::Node& node) {
   r.Get("record_rate_hz", &c->record_rate_hz);
   r.Get("mesh_snapshot_period_s", &c->mesh_snapshot_period_s);
   r.Finish();
+  try {
+    c->Validate();
+  } catch (const std::invalid_argument& e) {
+    r.Fail(node, e.what());
+  }
 }
 
 // The robot's configuration and the recording settings from a root map (a preset, or a scenario's
@@ -149,8 +154,14 @@ void ReadNavigatorAndRecord(MapReader& r, Scenario* s) {
     ConfigReader reader(m);
     navigation::VisitFields(reader, s->navigator);
     m.Finish();
+    // What holds across sections, with the geometry derived from the vehicle model.
+    try {
+      s->navigator.Derived().Validate();
+    } catch (const std::invalid_argument& e) {
+      m.Fail(n, std::string("in 'navigator': ") + e.what());
+    }
   }
-  if (const YAML::Node n = r.Child("record")) ReadRecord(MapReader(n, "record", r.file()), &s->record);
+  if (const YAML::Node n = r.Child("record")) ReadRecord(MapReader(n, "record", r.file()), &s->record, n);
 }
 
 void ReadCriteria(MapReader r, Criteria* c) {
@@ -233,7 +244,7 @@ void Scenario::Validate() const {
   }
   sim.Validate();
   record.Validate();
-  navigator.Validate();
+  navigator.Derived().Validate();
 }
 
 Preset LoadPreset(const std::string& path) {
@@ -270,8 +281,10 @@ std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed) {
          "\n  mesh_snapshot_period_s: " + internal::FormatNumber(record.mesh_snapshot_period_s) + "\n";
 }
 
-Scenario ParseScenario(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings,
-                       const Preset& preset) {
+namespace {
+
+Scenario Parse(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings,
+               const Preset& preset) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -352,6 +365,18 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
     throw ScenarioError(file + ": " + e.what());
   }
   return s;
+}
+
+}  // namespace
+
+Scenario ParseScenario(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings,
+                       const Preset& preset) {
+  try {
+    return Parse(yaml_text, file, settings, preset);
+  } catch (const YAML::Exception& e) {
+    // What the readers above do not name themselves (a value yaml-cpp cannot convert, ...).
+    throw ScenarioError(file + (e.mark.line >= 0 ? ":" + std::to_string(e.mark.line + 1) : std::string()) + ": " + e.msg);
+  }
 }
 
 Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings, const Preset& preset) {

@@ -186,6 +186,38 @@ TEST(NavigatorTest, GeometryIsDerivedFromTheVehicleModel) {
   EXPECT_EQ(defaults.planner.turning_radius_m, planner::LocalPlanner::Config{}.turning_radius_m);
 }
 
+// A planner whose blocked-pose index lies past the path's end: taken as the last pose, no crash.
+class PastTheEndPlanner final : public PathPlanner {
+ public:
+  planner::PlanResult Plan(const planner::PlanningMap& map, const Pose2& start, const Pose2& goal,
+                           const std::vector<double>& yaws) const override {
+    return StraightPlanner().Plan(map, start, goal, yaws);
+  }
+  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
+                                              std::size_t) const override {
+    return 1000000;
+  }
+};
+
+TEST(NavigatorTest, APluginsOddAnswersAndATimeJumpNeitherCrashNorHang) {
+  Navigator::Plugins plugins;
+  plugins.planner = std::make_unique<PastTheEndPlanner>();
+  Navigator nav(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+  FirstCycle(&nav, FlatGroundScans(1));
+  ASSERT_TRUE(nav.has_path());
+  EXPECT_TRUE(nav.Update(0.4, Eigen::Isometry3d::Identity()));
+  ASSERT_EQ(nav.cycles().size(), 2u);
+  EXPECT_EQ(nav.cycles()[1].trigger, "path blocked");
+  // A clock that jumps by years gets one tick, at once.
+  nav.Control(1e9, Eigen::Isometry3d::Identity(), 0.0);
+  EXPECT_TRUE(nav.Update(1e9, Eigen::Isometry3d::Identity()));
+  EXPECT_FALSE(nav.Update(1e9 + 0.1, Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(nav.Update(1e9 + 0.2 + 1e-6, Eigen::Isometry3d::Identity()));
+  nav.ClearRecords();
+  EXPECT_TRUE(nav.cycles().empty());
+  EXPECT_EQ(nav.stats().map_updates, 4u) << "counters are kept";
+}
+
 TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   Navigator::Config config;
   config.map_rate_hz = 0.0;

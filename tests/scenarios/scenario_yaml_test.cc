@@ -165,7 +165,20 @@ TEST(RunConfigTest, BadPresetsAndTheOldParamsSectionAreErrorsNamingFileAndLine) 
   EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  planner:\n    vehicle: {placement: floating}\n", "p.yaml"})
                 .rfind("p.yaml:3: 'navigator.planner.vehicle.placement' must be nearest_point or wheel_contacts", 0),
             0u);
-  EXPECT_NE(error(kMinimal, Preset{"navigator:\n  map_rate_hz: 0\n", "p.yaml"}).find("map_rate_hz must be > 0"),
+  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  map_rate_hz: 0\n", "p.yaml"})
+                .rfind("p.yaml:2: in 'navigator': navigator.map_rate_hz must be in (0, 100]", 0),
+            0u)
+      << error(kMinimal, Preset{"navigator:\n  map_rate_hz: 0\n", "p.yaml"});
+  // A section's own rule is reported at the section, a rule across sections at 'navigator'.
+  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  follower:\n    lookahead_min_m: -1\n", "p.yaml"})
+                .rfind("p.yaml:3: in 'navigator.follower': ", 0),
+            0u)
+      << error(kMinimal, Preset{"navigator:\n  follower:\n    lookahead_min_m: -1\n", "p.yaml"});
+  std::string tiny = kMinimal;
+  tiny.replace(tiny.find("  buffer:"), 0, "  vehicle: {height_m: 0.05}\n");
+  EXPECT_NE(error(tiny, DefaultPreset()).find("test.yaml:9: in 'navigator': "), std::string::npos)
+      << error(tiny, DefaultPreset());
+  EXPECT_NE(error(kMinimal, Preset{"navigator:\n  vehicle: {length_m: 1e9}\n", "p.yaml"}).find("length_m must be in (0, 20] m"),
             std::string::npos);
   std::string old = kMinimal;
   old.insert(old.find("criteria:"), "params:\n  loop: {goal_candidates: 2}\n");

@@ -28,15 +28,16 @@ struct VehicleModel {
 
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const {
-    const auto positive = [](double v, const char* name) {
-      if (!(v > 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string("vehicle.") + name + " must be > 0");
+    // Bounds far beyond any ground vehicle, so that no size makes a grid over the footprint huge.
+    const auto in_range = [](double v, double max, const char* name, const char* range) {
+      if (!(v > 0.0) || !(v <= max)) throw std::invalid_argument(std::string("vehicle.") + name + " must be in " + range);
     };
-    positive(length_m, "length_m");
-    positive(width_m, "width_m");
-    positive(height_m, "height_m");
-    positive(wheelbase_m, "wheelbase_m");
-    positive(track_m, "track_m");
-    positive(turning_radius_m, "turning_radius_m");
+    in_range(length_m, 20.0, "length_m", "(0, 20] m");
+    in_range(width_m, 10.0, "width_m", "(0, 10] m");
+    in_range(height_m, 10.0, "height_m", "(0, 10] m");
+    in_range(wheelbase_m, 20.0, "wheelbase_m", "(0, 20] m");
+    in_range(track_m, 10.0, "track_m", "(0, 10] m");
+    in_range(turning_radius_m, 100.0, "turning_radius_m", "(0, 100] m");
     if (!(rear_overhang_m >= 0.0) || !(rear_overhang_m < length_m)) {
       throw std::invalid_argument("vehicle.rear_overhang_m must be in [0, length_m)");
     }

@@ -69,7 +69,7 @@ struct CycleRecord {
   double time_s = 0.0;
   std::size_t cloud_points = 0;      ///< prepared points handed to the map backend
   bool map_ok = false;
-  std::string trigger;               ///< planner::ReplanReasonName, "" when the map failed
+  std::string trigger;               ///< planner::ReplanReasonName; "" when the map failed or nothing triggered
   std::string outcome;               ///< the last attempt's outcome, "" if no plan was made
   double prepare_ms = 0.0, map_ms = 0.0, plan_ms = 0.0;  ///< wall clock
 };
@@ -95,8 +95,8 @@ struct NavigatorStats {
 class Navigator {
  public:
   struct Config {
-    double map_rate_hz = 5.0;        ///< map-and-plan cycles per second (the paper's map rate)
-    double control_rate_hz = 50.0;   ///< follower commands per second
+    double map_rate_hz = 5.0;        ///< map-and-plan cycles per second (at most 100; the paper gives none)
+    double control_rate_hz = 50.0;   ///< follower commands per second (at most 1000)
     VehicleModel vehicle;
     PointCloudBuffer::Config buffer;
     MapPreparation::Config preparation;
@@ -172,8 +172,12 @@ class Navigator {
   const MapBackend& map_backend() const { return *backend_; }
   /// Route progress of the odometry pose, m.
   double route_progress_m() const { return progress_m_; }
+  /// Every planner call and every cycle since the start or the last ClearRecords.
   const std::vector<PlanAttempt>& plan_log() const { return plan_log_; }
   const std::vector<CycleRecord>& cycles() const { return cycles_; }
+  /// Drops the records and stage timings kept so far (a robot that logs them elsewhere calls this
+  /// now and then: they grow with every cycle). Counters in stats() are kept.
+  void ClearRecords();
   /// Counters and stage timings.
   NavigatorStats stats() const;
   /// The effective configuration (geometry derived from the vehicle model).

@@ -90,8 +90,8 @@ struct RunOptions {
   bool progress = false;  ///< a progress line on stderr
 };
 
-/// The navigator's configuration for a run: the scenario's, with the vehicle model of the simulated
-/// vehicle and the planner seeded from `seed`, geometry derived (what result.json records).
+/// The navigator's configuration for a run: the scenario's, with the planner seeded from `seed` and
+/// the geometry derived from its vehicle model (what result.json records).
 navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed);
 
 /// Runs the scenario with `seed` feeding every random source (LiDAR noise and faults, odometry,

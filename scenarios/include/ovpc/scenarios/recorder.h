@@ -17,7 +17,8 @@ namespace ovpc::scenarios {
 
 class Recorder {
  public:
-  /// @param result where the records go (trajectory, plan_log, map_points, files).
+  /// @param result where the records go (trajectory, plan_log, map_points, files). `scenario`,
+  /// `options` and `result` must outlive the recorder.
   Recorder(const Scenario& scenario, const RunOptions& options, const sim::Simulator& sim, RunResult* result);
   ~Recorder();
 

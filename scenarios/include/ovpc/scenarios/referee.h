@@ -17,6 +17,7 @@ namespace ovpc::scenarios {
 
 class Referee {
  public:
+  /// @param scenario must outlive the referee.
   /// @param T_W_B the true pose at the start.
   Referee(const Scenario& scenario, const sim::GatorParams& vehicle, const Eigen::Isometry3d& T_W_B);
 
@@ -33,7 +34,7 @@ class Referee {
 
  private:
   const Scenario& scenario_;
-  const sim::GatorParams& vehicle_;
+  sim::GatorParams vehicle_;
   Eigen::Vector3d last_position_;
   double distance_m_ = 0.0, max_roll_deg_ = 0.0, max_pitch_deg_ = 0.0;
   double progress_m_ = 0.0, best_progress_m_ = 0.0;
