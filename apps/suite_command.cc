@@ -241,9 +241,13 @@ Runner RegisterSuite(CLI::App& app) {
       const double sim_s = r.value("sim_time_s", 0.0), dist = r.value("distance_m", 0.0), rtf = r.value("real_time_factor", 0.0);
       const double wall = r.value("wall_time_s", 0.0);
       total_wall += wall;
+      std::string end = r.value("end_reason", std::string("exit code ") + std::to_string(job.exit_code));
+      // Why a failed run did not arrive: stalled, rocking or still driving (scenarios/diagnosis.h).
+      const std::string verdict = r.contains("diagnosis") ? r["diagnosis"].value("verdict", std::string()) : "";
+      if (!ok && !verdict.empty() && verdict != "arrived") end += " (" + verdict + ")";
       std::printf("%-22s %-5llu %-34s %-6s %9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
                   static_cast<unsigned long long>(job.seed), SettingsLabel(job.settings).c_str(), ok ? "pass" : "FAIL",
-                  sim_s, dist, rtf, r.value("end_reason", std::string("exit code ") + std::to_string(job.exit_code)).c_str());
+                  sim_s, dist, rtf, end.c_str());
       summary.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"settings", job.settings},
                          {"passed", ok}, {"exit_code", job.exit_code}, {"out", job.out_dir}, {"result", r}});
       cases << "    <testcase classname=\"" << XmlEscape(job.scenario) << "\" name=\""
@@ -258,6 +262,7 @@ Runner RegisterSuite(CLI::App& app) {
                           c.value("actual", std::string()) + "\n";
             }
           }
+          if (r.contains("diagnosis")) failures += "diagnosis: " + r["diagnosis"].value("summary", std::string()) + "\n";
         } else {
           failures = "run failed with exit code " + std::to_string(job.exit_code) + " (see " + job.out_dir + "/run.log)\n";
         }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config_yaml.h"
+#include "ovpc/scenarios/diagnosis.h"
 #include "ovpc/sim/image.h"
 #include "ovpc/sim/terrain.h"
 #include "ovpc/sim/world.h"
@@ -58,6 +59,20 @@ class Canvas {
   sim::Image image_;
 };
 
+nlohmann::json DiagnosisJson(const Diagnosis& d) {
+  nlohmann::json j = {{"verdict", d.verdict},
+                      {"summary", d.summary},
+                      {"stood_still_s", d.stood_still_s},
+                      {"still_at_end_s", d.still_at_end_s},
+                      {"reversals", d.reversals},
+                      {"reversals_last_30s", d.reversals_last_30s},
+                      {"moved_last_30s_m", d.moved_last_30s_m},
+                      {"commonest_rejection", d.commonest_rejection},
+                      {"commonest_failure", d.commonest_failure}};
+  j["last_plan_found_s"] = d.last_plan_found_s ? nlohmann::json(*d.last_plan_found_s) : nlohmann::json(nullptr);
+  return j;
+}
+
 // The run's effective configuration, as --print-config prints it.
 nlohmann::json RunConfigJson(const Scenario& scenario, std::uint64_t seed) {
   navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
@@ -91,6 +106,7 @@ std::string FormatScorecard(const Scenario& scenario, const RunResult& r) {
       << r.route_progress_m << " / " << r.route_length_m << " m, " << r.replans_found << " plans found of "
       << r.plans << ", " << r.map_updates << " map updates (median " << std::setprecision(2) << r.mapper.median_ms
       << " ms)\n";
+  out << "diagnosis: " << Diagnose(r).summary << "\n";
   return out.str();
 }
 
@@ -121,6 +137,7 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
       {"collisions", r.collisions},
       {"files", r.files},
       {"config", RunConfigJson(scenario, r.seed)},
+      {"diagnosis", DiagnosisJson(Diagnose(r))},
       {"timing", {{"physics_lidar", StageJson(r.physics_lidar)},
                   {"buffer", StageJson(r.buffer)},
                   {"ovpc_update", StageJson(r.mapper)},

@@ -1,0 +1,33 @@
+// Why a run did not arrive: from the true trajectory and the planner's log, tell a vehicle that
+// stood still ("stalled at the ramp's foot") from one that rocked back and forth on the spot
+// ("rocking in front of the wall") and from one that was still driving when the time ran out.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "ovpc/scenarios/closed_loop.h"
+
+namespace ovpc::scenarios {
+
+struct Diagnosis {
+  /// "arrived", "late" (the goal, after max_time_s), "stalled", "rocking", "driving" (still
+  /// moving on when the time ran out), or "" for a run that failed only other criteria.
+  std::string verdict;
+  std::string summary;              ///< one line for the scorecard
+  double stood_still_s = 0.0;       ///< time the vehicle stood (|true speed| < 0.05 m/s)
+  double still_at_end_s = 0.0;      ///< how long it had stood when the run ended
+  int reversals = 0;                ///< changes of the direction of travel (forward <-> backward)
+  int reversals_last_30s = 0;
+  double moved_last_30s_m = 0.0;    ///< straight-line distance covered in the run's last 30 s
+  std::optional<double> last_plan_found_s;
+  /// The validity check that rejected most of the planner's sampled states (planner::PoseCheckName),
+  /// and the commonest planner outcome other than "found".
+  std::string commonest_rejection;
+  std::string commonest_failure;
+};
+
+/// Reads the run's trajectory (true speed and pose), plan log and criteria.
+Diagnosis Diagnose(const RunResult& result);
+
+}  // namespace ovpc::scenarios

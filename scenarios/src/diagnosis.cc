@@ -1,0 +1,116 @@
+#include "ovpc/scenarios/diagnosis.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace ovpc::scenarios {
+namespace {
+
+constexpr double kStandingMps = 0.05;    // slower than this counts as standing
+constexpr double kMovingMps = 0.1;       // a direction counts once this fast (hysteresis)
+constexpr double kWindowS = 30.0;        // "lately"
+constexpr double kStalledS = 10.0;       // standing this long at the end: stalled
+constexpr int kRockingReversals = 4;     // this many reversals lately ...
+constexpr double kRockingMaxMoveM = 3.0; // ... while getting less far than this: rocking
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+bool CriterionFailed(const RunResult& r, const std::string& name) {
+  return std::any_of(r.criteria.begin(), r.criteria.end(),
+                     [&](const CriterionResult& c) { return c.name == name && !c.passed; });
+}
+
+bool CriterionPassed(const RunResult& r, const std::string& name) {
+  return std::any_of(r.criteria.begin(), r.criteria.end(),
+                     [&](const CriterionResult& c) { return c.name == name && c.passed; });
+}
+
+void ReadMotion(const RunResult& r, Diagnosis* d) {
+  const auto& t = r.trajectory;
+  if (t.empty()) return;
+  const double end_s = t.back().time_s;
+  int direction = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double v = t[i].speed_mps;
+    const double dt = i + 1 < t.size() ? t[i + 1].time_s - t[i].time_s : 0.0;
+    if (std::abs(v) < kStandingMps) {
+      d->stood_still_s += dt;
+      d->still_at_end_s += dt;
+    } else {
+      d->still_at_end_s = 0.0;
+    }
+    if (std::abs(v) >= kMovingMps) {
+      const int s = v > 0 ? 1 : -1;
+      if (direction != 0 && s != direction) {
+        ++d->reversals;
+        if (t[i].time_s >= end_s - kWindowS) ++d->reversals_last_30s;
+      }
+      direction = s;
+    }
+  }
+  const auto from = std::find_if(t.begin(), t.end(), [&](const TrajectorySample& s) { return s.time_s >= end_s - kWindowS; });
+  d->moved_last_30s_m = (t.back().T_W_B.translation().head<2>() - from->T_W_B.translation().head<2>()).norm();
+}
+
+void ReadPlans(const RunResult& r, Diagnosis* d) {
+  std::array<std::size_t, planner::kNumPoseChecks> rejected{};
+  std::map<std::string, std::size_t> failures;
+  for (const PlanRecord& p : r.plan_log) {
+    if (p.outcome == "found") d->last_plan_found_s = p.time_s;
+    else ++failures[p.outcome];
+    for (std::size_t c = 1; c < planner::kNumPoseChecks; ++c) rejected[c] += p.state_checks[c];
+  }
+  const auto most = std::max_element(rejected.begin() + 1, rejected.end());
+  if (*most > 0) d->commonest_rejection = planner::PoseCheckName(static_cast<planner::PoseCheck>(most - rejected.begin()));
+  std::size_t best = 0;
+  for (const auto& [outcome, n] : failures) {
+    if (n > best) best = n, d->commonest_failure = outcome;
+  }
+}
+
+}  // namespace
+
+Diagnosis Diagnose(const RunResult& r) {
+  Diagnosis d;
+  ReadMotion(r, &d);
+  ReadPlans(r, &d);
+  const bool arrived = CriterionPassed(r, "goal_reached") || r.end_reason == "route end reached";
+  if (arrived) {
+    d.verdict = CriterionFailed(r, "completion_time") ? "late" : "arrived";
+  } else if (CriterionFailed(r, "goal_reached") || CriterionFailed(r, "min_progress")) {
+    if (d.still_at_end_s >= kStalledS) d.verdict = "stalled";
+    else if (d.reversals_last_30s >= kRockingReversals && d.moved_last_30s_m < kRockingMaxMoveM) d.verdict = "rocking";
+    else d.verdict = "driving";
+  }
+  std::ostringstream s;
+  const Eigen::Vector2d at =
+      r.trajectory.empty() ? Eigen::Vector2d::Zero() : Eigen::Vector2d(r.trajectory.back().T_W_B.translation().head<2>());
+  const std::string where = "at (" + Fixed(at.x(), 1) + ", " + Fixed(at.y(), 1) + ")";
+  if (d.verdict == "stalled") {
+    s << "stalled " << where << ": stood still for the last " << Fixed(d.still_at_end_s, 1) << " s";
+  } else if (d.verdict == "rocking") {
+    s << "rocking " << where << ": " << d.reversals_last_30s << " direction reversals and "
+      << Fixed(d.moved_last_30s_m, 1) << " m covered in the last 30 s";
+  } else if (d.verdict == "driving") {
+    s << "still driving " << where << " when the time ran out: " << Fixed(d.moved_last_30s_m, 1)
+      << " m covered in the last 30 s";
+  } else {
+    s << (d.verdict.empty() ? "arrival not scored" : d.verdict);
+  }
+  s << "; stood still " << Fixed(d.stood_still_s, 1) << " s in all, " << d.reversals << " reversals";
+  s << "; last plan found " << (d.last_plan_found_s ? "at t=" + Fixed(*d.last_plan_found_s, 1) + " s" : std::string("never"));
+  if (!d.commonest_failure.empty()) s << "; commonest failed plan: " << d.commonest_failure;
+  if (!d.commonest_rejection.empty()) s << "; planner mostly rejected: " << d.commonest_rejection;
+  d.summary = s.str();
+  return d;
+}
+
+}  // namespace ovpc::scenarios

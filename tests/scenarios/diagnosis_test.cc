@@ -1,0 +1,76 @@
+// The run diagnosis on made-up runs: a vehicle that stood, one that rocked, one still driving.
+#include "ovpc/scenarios/diagnosis.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace ovpc::scenarios {
+namespace {
+
+// A run that did not reach its goal: `speed(t)` along x for `duration_s` at 10 Hz.
+template <class Speed>
+RunResult MadeUpRun(double duration_s, Speed speed) {
+  RunResult r;
+  r.end_reason = "time limit";
+  r.criteria.push_back({"goal_reached", "", "no", false});
+  double x = 0.0;
+  for (int i = 0; i <= static_cast<int>(duration_s * 10); ++i) {
+    TrajectorySample s;
+    s.time_s = 0.1 * i;
+    s.speed_mps = speed(s.time_s);
+    x += 0.1 * s.speed_mps;
+    s.T_W_B.translation().x() = x;
+    r.trajectory.push_back(s);
+  }
+  PlanRecord found, failed;
+  found.time_s = 12.0;
+  found.outcome = "found";
+  failed.time_s = 30.0;
+  failed.outcome = "start_invalid:ground under footprint";
+  failed.state_checks[static_cast<std::size_t>(planner::PoseCheck::kCollision)] = 40;
+  failed.state_checks[static_cast<std::size_t>(planner::PoseCheck::kGroundUnderFootprint)] = 90;
+  r.plan_log = {found, failed, failed};
+  return r;
+}
+
+TEST(DiagnosisTest, AVehicleThatStoodAtTheEndStalled) {
+  const Diagnosis d = Diagnose(MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; }));
+  EXPECT_EQ(d.verdict, "stalled");
+  EXPECT_NEAR(d.still_at_end_s, 40.0, 0.15);
+  EXPECT_NEAR(d.stood_still_s, 40.0, 0.15);
+  EXPECT_EQ(d.reversals, 0);
+  ASSERT_TRUE(d.last_plan_found_s.has_value());
+  EXPECT_EQ(*d.last_plan_found_s, 12.0);
+  EXPECT_EQ(d.commonest_rejection, "ground under footprint");
+  EXPECT_EQ(d.commonest_failure, "start_invalid:ground under footprint");
+  EXPECT_NE(d.summary.find("stalled at (20.0, 0.0)"), std::string::npos) << d.summary;
+}
+
+TEST(DiagnosisTest, BackAndForthOnTheSpotIsRocking) {
+  // 0.8 m forward, 0.8 m back, every 4 s.
+  const Diagnosis d = Diagnose(MadeUpRun(60.0, [](double t) { return std::fmod(t, 4.0) < 2.0 ? 0.4 : -0.4; }));
+  EXPECT_EQ(d.verdict, "rocking");
+  EXPECT_GE(d.reversals_last_30s, 14);
+  EXPECT_LT(d.moved_last_30s_m, 1.0);
+}
+
+TEST(DiagnosisTest, SlowButSteadyIsStillDriving) {
+  const Diagnosis d = Diagnose(MadeUpRun(60.0, [](double) { return 0.3; }));
+  EXPECT_EQ(d.verdict, "driving");
+  EXPECT_NEAR(d.moved_last_30s_m, 9.0, 0.1);
+  EXPECT_EQ(d.stood_still_s, 0.0);
+}
+
+TEST(DiagnosisTest, ArrivalsAreArrivedOrLate) {
+  RunResult r = MadeUpRun(20.0, [](double) { return 1.0; });
+  r.criteria = {{"goal_reached", "", "at t=20.0 s", true}};
+  EXPECT_EQ(Diagnose(r).verdict, "arrived");
+  r.criteria.push_back({"completion_time", "<= 15 s", "20.0 s", false});
+  EXPECT_EQ(Diagnose(r).verdict, "late");
+  r.criteria = {{"no_collision", "0 body contacts", "t=3.00 s: body touched post", false}};
+  EXPECT_EQ(Diagnose(r).verdict, "") << "a failure of another criterion is not an arrival question";
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
