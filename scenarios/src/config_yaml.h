@@ -44,6 +44,13 @@ class MapReader {
   MapReader(const YAML::Node& node, std::string context, const std::string& file)
       : node_(node), context_(std::move(context)), file_(file) {
     if (!node_.IsMap()) Fail(node_, "'" + context_ + "' must be a mapping of keys to values");
+    // YAML says a key appears once in a mapping; yaml-cpp keeps both and reads the first.
+    std::set<std::string> seen;
+    for (const auto& kv : node_) {
+      if (kv.first.IsScalar() && !seen.insert(kv.first.Scalar()).second) {
+        Fail(kv.first, "duplicate key '" + Key(kv.first.Scalar().c_str()) + "'");
+      }
+    }
   }
 
   template <class T>
@@ -106,7 +113,11 @@ class MapReader {
   T ConvertAt(const YAML::Node& value, const std::string& key) const {
     if (!value.IsScalar()) Fail(value, "'" + key + "' must be " + TypeName<T>());
     try {
-      return value.as<T>();
+      const T converted = value.as<T>();
+      if constexpr (std::is_floating_point_v<T>) {
+        if (std::isnan(converted)) Fail(value, "'" + key + "' must be a number, got '" + value.Scalar() + "'");
+      }
+      return converted;
     } catch (const YAML::BadConversion&) {
       Fail(value, "'" + key + "' must be " + TypeName<T>() + ", got '" + value.Scalar() + "'");
     }

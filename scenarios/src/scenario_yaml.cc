@@ -236,10 +236,27 @@ void Recording::Config::Validate() const {
 
 void Scenario::Validate() const {
   auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
-  if (!(time_limit_s > 0.0)) fail("time_limit_s must be > 0");
+  // A day of simulated time: a run is bounded, and a typo (.inf, 1e9) does not run for ever.
+  if (!(time_limit_s > 0.0) || !(time_limit_s <= 86400.0)) fail("time_limit_s must be in (0, 86400] s");
   if (route_m.empty()) fail("route needs at least one waypoint");
+  // The start, the route and the goal lie on the terrain (centred on the origin).
+  const double half_x = 0.5 * sim.world.terrain.size_x_m, half_y = 0.5 * sim.world.terrain.size_y_m;
+  const auto on_terrain = [&](const Eigen::Vector2d& p) { return std::abs(p.x()) <= half_x && std::abs(p.y()) <= half_y; };
+  std::ostringstream spans;
+  spans << " (the terrain spans x and y within +-" << half_x << " and +-" << half_y << " m)";
+  const std::string extent = spans.str();
+  for (std::size_t i = 0; i < route_m.size(); ++i) {
+    if (!route_m[i].allFinite()) fail("route[" + std::to_string(i) + "] must be finite");
+    if (!on_terrain(route_m[i])) fail("route[" + std::to_string(i) + "] lies off the terrain" + extent);
+  }
+  if (!on_terrain(Eigen::Vector2d(sim.start_x_m, sim.start_y_m))) fail("start lies off the terrain" + extent);
+  if (criteria.goal_m && !(criteria.goal_m->allFinite() && on_terrain(*criteria.goal_m))) {
+    fail("criteria.goal must be finite and on the terrain" + extent);
+  }
+  if (!(criteria.goal_radius_m <= 100.0)) fail("criteria.goal.radius_m must be at most 100 m");
   if (criteria.goal_radius_m <= 0.0) fail("criteria.goal.radius_m must be > 0");
   for (const Region& r : criteria.forbidden) {
+    if (!r.min_m.allFinite() || !r.max_m.allFinite()) fail("criteria.forbidden '" + r.name + "': corners must be finite");
     if (!(r.min_m.array() < r.max_m.array()).all()) fail("criteria.forbidden '" + r.name + "': min_m must be below max_m");
   }
   sim.Validate();

@@ -11,8 +11,9 @@
 namespace ovpc::sim {
 namespace {
 
-// Guards against configs that would allocate gigabytes by accident (a 1 km square at 0.1 m).
-constexpr double kMaxGridVertices = 25e6;
+// At most 4 million heightfield vertices (400 m x 400 m at the default 0.2 m cell): MuJoCo's and
+// Embree's copies of the grid take about 120 bytes a vertex, so this bounds a world at about 0.5 GB.
+constexpr double kMaxGridVertices = 4e6;
 
 /// Uniform value in [-1, 1] at a lattice node of one octave.
 double LatticeValue(std::uint64_t seed, int octave, std::int64_t ix, std::int64_t iy) {
@@ -75,7 +76,8 @@ void TerrainConfig::Validate() const {
   require(size_y_m >= cell_m && std::isfinite(size_y_m), "size_y_m must be >= cell_m");
   require(static_cast<double>(GridCount(size_x_m, cell_m)) * GridCount(size_y_m, cell_m) <=
               kMaxGridVertices,
-          "size_x_m / cell_m * size_y_m / cell_m is too large (more than 25 M vertices)");
+          "size_x_m / cell_m * size_y_m / cell_m is too large (more than 4 million vertices, e.g. 400 m x 400 m "
+          "at the 0.2 m cell)");
   require(std::isfinite(direction_deg), "direction_deg must be finite");
   switch (kind) {
     case Kind::kFlat:

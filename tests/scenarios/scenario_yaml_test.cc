@@ -188,3 +188,41 @@ TEST(RunConfigTest, BadPresetsAndTheOldParamsSectionAreErrorsNamingFileAndLine) 
 
 }  // namespace
 }  // namespace ovpc::scenarios
+
+namespace ovpc::scenarios {
+namespace {
+
+std::string LoadError(const std::string& yaml) {
+  try {
+    ParseScenario(yaml, "bad.yaml");
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ScenarioValidationTest, ValuesThatWouldRunForeverOrOffTheWorldAreRefused) {
+  const std::string base = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [40, 20]}\n";
+  EXPECT_NE(LoadError(base + "route: [[0, 0], [.nan, 0]]\n").find("bad.yaml:4: 'route[1]' must be a number, got '.nan'"),
+            std::string::npos)
+      << LoadError(base + "route: [[0, 0], [.nan, 0]]\n");
+  EXPECT_NE(LoadError(base + "route: [[0, 0], [25, 0]]\n").find("route[1] lies off the terrain"), std::string::npos);
+  EXPECT_NE(LoadError(base + "route: [[0, 0], [5, 0]]\nstart: {x_m: -30}\n").find("start lies off the terrain"),
+            std::string::npos);
+  EXPECT_NE(LoadError(base + "route: [[0, 0], [5, 0]]\ncriteria: {goal: {x_m: 5, y_m: 50}}\n").find("criteria.goal"),
+            std::string::npos);
+  const std::string forever = "name: b\ntime_limit_s: .inf\nterrain: {kind: flat, size_m: [40, 20]}\nroute: [[0, 0]]\n";
+  EXPECT_NE(LoadError(forever).find("time_limit_s must be in (0, 86400] s"), std::string::npos) << LoadError(forever);
+  const std::string huge = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1000, 1000]}\nroute: [[0, 0]]\n";
+  EXPECT_NE(LoadError(huge).find("more than 4 million vertices"), std::string::npos) << LoadError(huge);
+  const std::string twice = "name: b\ntime_limit_s: 5\ntime_limit_s: 9\nroute: [[0, 0]]\n";
+  EXPECT_EQ(LoadError(twice).rfind("bad.yaml:3: duplicate key 'time_limit_s'", 0), 0u) << LoadError(twice);
+  const std::string twice_inside = base + "route: [[0, 0]]\nnavigator: {buffer: {max_scans: 3, max_scans: 4}}\n";
+  EXPECT_NE(LoadError(twice_inside).find("duplicate key 'navigator.buffer.max_scans'"), std::string::npos)
+      << LoadError(twice_inside);
+  const std::string odd_key = base + "route: [[0, 0]]\n? [a, b]\n: 1\n";
+  EXPECT_EQ(LoadError(odd_key).rfind("bad.yaml:", 0), 0u) << LoadError(odd_key);
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
