@@ -60,14 +60,17 @@ Runner RegisterRun(CLI::App& app) {
     options.frames = o->frames;
     options.progress = !o->quiet;
     std::filesystem::create_directories(o->out);
+    const std::filesystem::path dir(o->out);
+    // result.json marks a complete run: gone while the run goes on, written last by a rename.
+    std::filesystem::remove(dir / "result.json");
     const scenarios::RunResult result = scenarios::RunClosedLoop(scenario, seed, options);
     std::cout << scenarios::FormatScorecard(scenario, result);
-    const std::filesystem::path dir(o->out);
-    scenarios::WriteResultJson(scenario, result, (dir / "result.json").string());
     scenarios::WriteTrajectoryCsv(result, (dir / "trajectory.csv").string());
     scenarios::WritePlansCsv(result, (dir / "plans.csv").string());
     scenarios::WriteCyclesCsv(result, (dir / "cycles.csv").string());
     scenarios::WriteTopdownPng(scenario, result, (dir / "topdown.png").string());
+    scenarios::WriteResultJson(scenario, result, (dir / "result.json.part").string());
+    std::filesystem::rename(dir / "result.json.part", dir / "result.json");
     std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, cycles.csv, topdown.png";
     if (!result.files.empty()) std::cout << " and " << result.files.size() << " snapshot/frame files";
     std::cout << "\n";

@@ -37,7 +37,8 @@ struct Job {
   std::string out_dir;
   pid_t pid = 0;
   int exit_code = -1;
-  nlohmann::json result;
+  nlohmann::json result = nlohmann::json::object();
+  std::string error;  // why there is no result: a malformed file, a killed or crashed run, ...
 };
 
 std::string SettingsLabel(const std::vector<std::string>& settings) {
@@ -118,8 +119,10 @@ Runner RegisterSuite(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("suite", "Run many scenarios (and seeds, and parameter sweeps) in parallel processes");
   cmd->footer(
       "Each run is `ovpc run` in its own process, writing to OUT/<scenario>[__<settings>]/seed_<k>. Prints a\n"
-      "summary table, and writes OUT/junit.xml and OUT/summary.json. Exit codes: 0 every run passed, 1 some\n"
-      "run failed, 2 bad input.");
+      "summary table, and writes OUT/junit.xml and OUT/summary.json. A malformed scenario file, a run killed or\n"
+      "crashed, or one that left no result.json is an error of that run (JUnit <error>); the others run and are\n"
+      "reported. Exit codes: 0 every run passed, 1 some run failed or had an error, 2 bad input (a malformed\n"
+      "scenario file among them).");
   cmd->add_option("inputs", o->inputs, "Scenario folders (every *.yaml in them) or files")->required();
   cmd->add_option("-j,--jobs", o->jobs, "Runs at the same time")->capture_default_str();
   cmd->add_option("--seeds", o->seeds, "K seeds for every scenario: F..F+K-1 (F = --first-seed)")->capture_default_str();
@@ -155,12 +158,23 @@ Runner RegisterSuite(CLI::App& app) {
       throw BadInput(e.what());
     }
     std::vector<Job> jobs;
+    std::map<std::string, std::string> tag_files;  // run folder name -> the file that has it
+    bool malformed = false;
     for (const std::string& file : files) {
       scenarios::Scenario s;
       try {
         s = scenarios::LoadScenario(file, combos.front(), preset);
       } catch (const scenarios::ScenarioError& e) {
-        throw BadInput(e.what());
+        // Reported as an error of this file; the other files still run.
+        std::fprintf(stderr, "ovpc suite: %s\n", e.what());
+        Job job;
+        job.file = file;
+        job.scenario = fs::path(file).stem().string();
+        job.exit_code = kExitBadInput;
+        job.error = e.what();
+        jobs.push_back(job);
+        malformed = true;
+        continue;
       }
       bool skip = false;
       for (const auto& l : o->skip_labels) skip = skip || std::count(s.labels.begin(), s.labels.end(), l) > 0;
@@ -169,6 +183,9 @@ Runner RegisterSuite(CLI::App& app) {
         std::string tag = s.name;
         for (const auto& kv : combo) tag += "__" + kv;
         std::replace(tag.begin(), tag.end(), '/', '_');
+        // Two files with one scenario name get folders of their own.
+        for (int k = 2; tag_files.count(tag) && tag_files[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + tag.substr(s.name.size());
+        tag_files[tag] = file;
         for (int seed = o->first_seed; seed < o->first_seed + o->seeds; ++seed) {
           Job job;
           job.file = file;
@@ -184,6 +201,7 @@ Runner RegisterSuite(CLI::App& app) {
 
     const std::string self = fs::read_symlink("/proc/self/exe").string();
     std::size_t next = 0, done = 0, passed = 0, running = 0;
+    const auto not_run = [](const Job& job) { return !job.error.empty() && job.pid == 0; };
     std::map<pid_t, std::size_t> by_pid;
     auto progress = [&]() {
       std::fprintf(stderr, "\r[%zu/%zu] done, %zu running, %zu passed, %zu failed   ", done, jobs.size(), running, passed,
@@ -193,6 +211,14 @@ Runner RegisterSuite(CLI::App& app) {
     while (done < jobs.size()) {
       while (running < static_cast<std::size_t>(o->jobs) && next < jobs.size()) {
         Job& job = jobs[next];
+        if (not_run(job)) {  // a malformed file: nothing to run
+          ++next;
+          ++done;
+          continue;
+        }
+        // A fresh folder: a result left by an earlier suite is never taken for this run's.
+        std::error_code ec;
+        fs::remove_all(job.out_dir, ec);
         fs::create_directories(job.out_dir);
         std::vector<std::string> args = {self, "run", job.file, "--seed", std::to_string(job.seed), "--out", job.out_dir, "-q"};
         if (!o->preset.empty()) {
@@ -208,6 +234,7 @@ Runner RegisterSuite(CLI::App& app) {
         ++running;
         progress();
       }
+      if (running == 0) break;  // every remaining job was a malformed file
       int status = 0;
       const pid_t pid = waitpid(-1, &status, 0);
       if (pid < 0) break;
@@ -215,14 +242,26 @@ Runner RegisterSuite(CLI::App& app) {
       if (it == by_pid.end()) continue;
       Job& job = jobs[it->second];
       job.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+      // `ovpc run` writes result.json last, by renaming a complete file: no file, no result.
       std::ifstream in(fs::path(job.out_dir) / "result.json");
       if (in) {
         try {
           in >> job.result;
         } catch (const std::exception&) {
+          job.result = nlohmann::json::object();
         }
       }
-      passed += job.exit_code == 0;
+      if (!job.result.is_object()) job.result = nlohmann::json::object();
+      const std::string log = " (see " + (fs::path(job.out_dir) / "run.log").string() + ")";
+      if (WIFSIGNALED(status)) {
+        job.error = "killed by signal " + std::to_string(WTERMSIG(status)) + log;
+      } else if (job.exit_code != 0 && job.exit_code != 1) {
+        job.error = "exit code " + std::to_string(job.exit_code) + log;
+      } else if (job.result.empty()) {
+        job.error = "no result.json (exit code " + std::to_string(job.exit_code) + ")" + log;
+      }
+      if (!job.error.empty()) job.result = nlohmann::json::object();
+      passed += job.exit_code == 0 && job.error.empty();
       ++done;
       --running;
       progress();
@@ -235,25 +274,33 @@ Runner RegisterSuite(CLI::App& app) {
     nlohmann::json summary = nlohmann::json::array();
     std::ostringstream cases;
     double total_wall = 0.0;
+    std::size_t errors = 0;
     for (const Job& job : jobs) {
       const nlohmann::json& r = job.result;
-      const bool ok = job.exit_code == 0;
+      const bool ok = job.exit_code == 0 && job.error.empty();
       const double sim_s = r.value("sim_time_s", 0.0), dist = r.value("distance_m", 0.0), rtf = r.value("real_time_factor", 0.0);
       const double wall = r.value("wall_time_s", 0.0);
       total_wall += wall;
-      std::string end = r.value("end_reason", std::string("exit code ") + std::to_string(job.exit_code));
+      std::string end = job.error.empty() ? r.value("end_reason", std::string("exit code ") + std::to_string(job.exit_code))
+                                          : job.error;
       // Why a failed run did not arrive: stalled, rocking or still driving (scenarios/diagnosis.h).
       const std::string verdict = r.contains("diagnosis") ? r["diagnosis"].value("verdict", std::string()) : "";
       if (!ok && !verdict.empty() && verdict != "arrived") end += " (" + verdict + ")";
       std::printf("%-22s %-5llu %-34s %-6s %9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
-                  static_cast<unsigned long long>(job.seed), SettingsLabel(job.settings).c_str(), ok ? "pass" : "FAIL",
+                  static_cast<unsigned long long>(job.seed), SettingsLabel(job.settings).c_str(),
+                  ok ? "pass" : job.error.empty() ? "FAIL" : "ERROR",
                   sim_s, dist, rtf, end.c_str());
       summary.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"settings", job.settings},
                          {"passed", ok}, {"exit_code", job.exit_code}, {"out", job.out_dir}, {"result", r}});
+      if (!job.error.empty()) summary.back()["error"] = job.error;
       cases << "    <testcase classname=\"" << XmlEscape(job.scenario) << "\" name=\""
             << XmlEscape("seed=" + std::to_string(job.seed) + (job.settings.empty() ? "" : " " + SettingsLabel(job.settings)))
             << "\" time=\"" << wall << "\">\n";
-      if (!ok) {
+      if (!job.error.empty()) {
+        ++errors;
+        cases << "      <error message=\"" << XmlEscape(job.error.substr(0, job.error.find('\n'))) << "\">"
+              << XmlEscape(job.error) << "</error>\n";
+      } else if (!ok) {
         std::string failures;
         if (r.contains("criteria")) {
           for (const auto& c : r["criteria"]) {
@@ -289,7 +336,7 @@ Runner RegisterSuite(CLI::App& app) {
           if (job.scenario != g.first || job.settings != g.second) continue;
           ++n;
           rtf += job.result.value("real_time_factor", 0.0);
-          if (job.exit_code != 0) {
+          if (job.exit_code != 0 || !job.error.empty()) {
             failed += (failed.empty() ? "" : ",") + std::to_string(job.seed);
             continue;
           }
@@ -313,7 +360,7 @@ Runner RegisterSuite(CLI::App& app) {
         for (const Job& job : jobs) {
           if (job.settings != combo) continue;
           ++n;
-          ok += job.exit_code == 0;
+          ok += job.exit_code == 0 && job.error.empty();
           sim_s += job.result.value("sim_time_s", 0.0);
           dist += job.result.value("distance_m", 0.0);
         }
@@ -324,12 +371,14 @@ Runner RegisterSuite(CLI::App& app) {
     fs::create_directories(o->out);
     std::ofstream junit(fs::path(o->out) / "junit.xml");
     junit << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"ovpc scenarios\" tests=\""
-          << jobs.size() << "\" failures=\"" << jobs.size() - passed << "\" time=\"" << total_wall << "\">\n"
+          << jobs.size() << "\" failures=\"" << jobs.size() - passed - errors << "\" errors=\"" << errors << "\" time=\""
+          << total_wall << "\">\n"
           << cases.str() << "  </testsuite>\n</testsuites>\n";
-    std::ofstream(fs::path(o->out) / "summary.json") << nlohmann::json{{"runs", summary}, {"passed", passed}, {"total", jobs.size()}}.dump(2)
+    std::ofstream(fs::path(o->out) / "summary.json") << nlohmann::json{{"runs", summary}, {"passed", passed}, {"errors", errors}, {"total", jobs.size()}}.dump(2)
                                                      << "\n";
     std::printf("\n%zu of %zu runs passed; wrote %s/junit.xml and %s/summary.json\n", passed, jobs.size(), o->out.c_str(),
                 o->out.c_str());
+    if (malformed) return kExitBadInput;
     return passed == jobs.size() ? kExitOk : kExitFailure;
   };
 }

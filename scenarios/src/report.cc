@@ -147,6 +147,8 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot open for writing");
   out << j.dump(2) << "\n";
+  out.close();
+  if (!out) throw std::runtime_error(path + ": could not write it whole (disk full?)");
 }
 
 void WriteTrajectoryCsv(const RunResult& r, const std::string& path) {

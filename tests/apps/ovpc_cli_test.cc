@@ -220,5 +220,49 @@ TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
   EXPECT_EQ(Run("run " + Path("short.yaml") + " --preset " + Path("nothing.yaml")).exit_code, 2);
 }
 
+// A suite never loses its report: a malformed file is an error of its own and the others run; a run
+// killed halfway is an error with no figures, not the figures of an earlier run in its folder.
+TEST_F(CliTest, SuiteReportsAMalformedFileAndAKilledRunAsErrorsAndTheRestInFull) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  WriteText("broken.yaml", "name: broken\ntime_limit_s: soon\nroute: [[0, 0]]\n");
+  // A run that takes far longer than the short one, killed while it runs; an earlier suite's
+  // result.json sits in its folder.
+  std::string slow = testing::kShortFlatScenario;
+  slow.replace(slow.find("name: short_flat"), 16, "name: slow_flat");
+  slow.replace(slow.find("time_limit_s: 8"), 15, "time_limit_s: 300");
+  slow.replace(slow.find("[6, 0]]"), 7, "[15, 0], [15, 5], [0, 5], [0, 0]]");
+  slow.replace(slow.find("goal: {x_m: 6.0"), 15, "goal: {x_m: 9.0");
+  WriteText("slow.yaml", slow);
+  fs::create_directories(Path("suite/slow_flat/seed_1"));
+  WriteText("suite/slow_flat/seed_1/result.json", "{\"passed\": true, \"sim_time_s\": 1.0}\n");
+
+  const std::string suite = std::string(OVPC_CLI_PATH) + " suite " + Path("short.yaml") + " " + Path("broken.yaml") + " " +
+                            Path("slow.yaml") + " --jobs 2 --out " + Path("suite");
+  // Kill the slow run's process once it has started (its parent, the suite, goes on).
+  const std::string script = suite + " >" + Path("out.txt") + " 2>" + Path("err.txt") + " & s=$!; " +
+                             "for i in $(seq 100); do p=$(pgrep -P $s -f slow.yaml) && break; sleep 0.1; done; sleep 1; "
+                             "kill -9 $p; wait $s; echo $? >" + Path("code.txt");
+  ASSERT_EQ(std::system(("bash -c '" + script + "'").c_str()), 0);
+  EXPECT_EQ(std::stoi(ReadAll(Path("code.txt"))), 2) << "a malformed file is bad input";
+  const std::string out = ReadAll(Path("out.txt"));
+  EXPECT_NE(out.find("broken.yaml:2: 'time_limit_s' must be a number"), std::string::npos) << out;
+  EXPECT_NE(out.find("killed by signal 9"), std::string::npos) << out;
+  EXPECT_NE(out.find("1 of 3 runs passed"), std::string::npos) << out;
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("suite/summary.json")));
+  EXPECT_EQ(summary["total"], 3);
+  EXPECT_EQ(summary["passed"], 1);
+  EXPECT_EQ(summary["errors"], 2);
+  for (const auto& run : summary["runs"]) {
+    if (run["scenario"] == "slow_flat") {
+      EXPECT_FALSE(run["passed"].get<bool>());
+      EXPECT_TRUE(run["result"].empty()) << "no figures of the earlier run: " << run["result"].dump();
+    }
+  }
+  const std::string junit = ReadAll(Path("suite/junit.xml"));
+  EXPECT_NE(junit.find("errors=\"2\""), std::string::npos) << junit;
+  EXPECT_EQ(std::count(junit.begin(), junit.end(), '\n') > 5, true);
+  EXPECT_NE(junit.find("<error message=\"killed by signal 9"), std::string::npos) << junit;
+}
+
 }  // namespace
 }  // namespace ovpc
