@@ -28,7 +28,9 @@ struct MeshOptions {
   double dh_max_m = 0.25;
   double voxel_m = 0.0;
   int min_hits = 0;
-  std::size_t max_points = 0;
+  long long max_points = 0;
+  int bin_fields = 4;
+  double min_range_m = OvpcMapper::Config{}.min_range_m;
   std::string out_mesh;
   std::string out_points;
   std::string out_json;
@@ -75,10 +77,14 @@ int RunMesh(const MeshOptions& o) {
   }
   config.traversability.alpha_max_rad = DegToRad(o.alpha_max_deg);
   config.traversability.delta_h_max_m = o.dh_max_m;
+  if (o.max_points < 0) throw BadInput("--max-points must be >= 0, got " + std::to_string(o.max_points));
+  if (o.bin_fields != 4 && o.bin_fields != 5) throw BadInput("--bin-fields must be 4 or 5");
+  if (!(o.min_range_m >= 1e-5) || !(o.min_range_m <= 1e3)) throw BadInput("--min-range must be in [1e-5, 1000] m");
+  config.min_range_m = o.min_range_m;
 
   Points raw;
   try {
-    raw = ReadCloud(o.cloud_path);
+    raw = ReadCloud(o.cloud_path, CloudFormat::kAuto, o.bin_fields);
   } catch (const CloudIoError& e) {
     throw BadInput(e.what());
   }
@@ -99,7 +105,7 @@ int RunMesh(const MeshOptions& o) {
     if (min_hits < 1) throw BadInput("--min-hits must be >= 1");
     if (!(voxel >= 0.0)) throw BadInput("--voxel must be >= 0 (0 disables the voxel filter)");
     points = VoxelFilter(finite, voxel, min_hits, &buffer_stats);
-    if (o.max_points > 0) points = Subsample(points, o.max_points, 1, &buffer_stats);
+    if (o.max_points > 0) points = Subsample(points, static_cast<std::size_t>(o.max_points), 1, &buffer_stats);
   }
 
   // Gamma: the paper's -0.03 for the exponential kernel; 100 x the cloud's extent for the linear one.
@@ -231,13 +237,17 @@ Runner RegisterMesh(CLI::App& app) {
   cmd->add_option("--kernel", o->kernel, "GHPR kernel: exponential (d^gamma) or linear (gamma - d)")
       ->capture_default_str();
   o->gamma_opt = cmd->add_option("--gamma", o->gamma,
-                                 "Kernel parameter: < 0 for exponential (default -0.03, paper); > max distance for "
-                                 "linear (default 100 x the farthest point's distance)");
+                                 "Kernel parameter: in [-1, 0) for exponential (default -0.03, paper); above the max "
+                                 "distance and at most 1e7 for linear (default 100 x the farthest point's distance)");
   cmd->add_option("--alpha-max", o->alpha_max_deg, "Max surface angle of a traversable face, degrees")->capture_default_str();
   cmd->add_option("--dh-max", o->dh_max_m, "Max height spread of a traversable face, metres")->capture_default_str();
   o->voxel_opt = cmd->add_option("--voxel", o->voxel_m, "Buffer stage: voxel edge in metres (0 disables)");
   o->min_hits_opt = cmd->add_option("--min-hits", o->min_hits, "Buffer stage: keep voxels with at least this many points");
   cmd->add_option("--max-points", o->max_points, "Buffer stage: subsample to at most this many points (0 = keep all)");
+  cmd->add_option("--bin-fields", o->bin_fields, ".bin records: 4 float32 (KITTI x,y,z,i) or 5 (nuScenes x,y,z,i,ring)")
+      ->capture_default_str();
+  cmd->add_option("--min-range", o->min_range_m, "Drop points closer than this to the viewpoint, metres (self hits)")
+      ->capture_default_str();
   cmd->add_option("--out", o->out_mesh, "Write the mesh as PLY (face colours: green traversable, red not)");
   cmd->add_option("--points", o->out_points, "Write the vertex cloud as PLY (normals, traversable flag)");
   cmd->add_option("--json", o->out_json, "Write statistics and per-stage milliseconds as JSON");

@@ -86,9 +86,14 @@ struct Scratch {
 
 void Ghpr::Config::Validate() const {
   if (!std::isfinite(gamma)) throw std::invalid_argument("Ghpr::Config: gamma must be finite");
-  if (kernel == GhprKernel::kExponential && !(gamma < 0.0)) {
-    throw std::invalid_argument("Ghpr::Config: the exponential kernel needs gamma < 0 (paper: -0.03), got " +
+  // Bounds that keep the image transform well conditioned: past them the image points collapse or
+  // overflow and the hull takes minutes (gamma = -300: 74 s) for a meaningless map.
+  if (kernel == GhprKernel::kExponential && !(gamma < 0.0 && gamma >= -1.0)) {
+    throw std::invalid_argument("Ghpr::Config: the exponential kernel needs gamma in [-1, 0) (paper: -0.03), got " +
                                 std::to_string(gamma));
+  }
+  if (kernel == GhprKernel::kLinear && gamma > 1e7) {
+    throw std::invalid_argument("Ghpr::Config: the linear kernel needs gamma at most 1e7 m, got " + std::to_string(gamma));
   }
   if (kernel == GhprKernel::kLinear && !(gamma > 0.0)) {
     throw std::invalid_argument(

@@ -38,15 +38,27 @@ struct FileCloser {
 };
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
+// A point cloud file is a regular file of at most this many bytes (2 GiB: 130 million KITTI points).
+constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{2} << 30;
+
 std::string LoadFile(const std::string& path) {
+  // A FIFO or a device would block or never end: only regular files, read up to their size.
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) Fail(path, "cannot open (No such file or directory)");
+  if (!std::filesystem::is_regular_file(status)) Fail(path, "not a regular file (a folder, FIFO or device)");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) Fail(path, "cannot read its size (" + ec.message() + ")");
+  if (size > kMaxFileBytes) Fail(path, "larger than 2 GiB (" + std::to_string(size) + " bytes); split the cloud");
   errno = 0;
   FilePtr file(std::fopen(path.c_str(), "rb"));
   if (!file) Fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
   std::string bytes;
+  bytes.reserve(static_cast<std::size_t>(size));
   std::array<char, 1 << 16> chunk;
   std::size_t n = 0;
-  while ((n = std::fread(chunk.data(), 1, chunk.size(), file.get())) > 0) {
-    bytes.append(chunk.data(), n);
+  while (bytes.size() < size && (n = std::fread(chunk.data(), 1, chunk.size(), file.get())) > 0) {
+    bytes.append(chunk.data(), std::min<std::size_t>(n, static_cast<std::size_t>(size - bytes.size())));
   }
   if (std::ferror(file.get())) {
     Fail(path, std::string("cannot read (") + std::strerror(errno) + ")");
@@ -642,18 +654,37 @@ Points ReadPcd(const std::string& path, const std::string& bytes) {
 // ---------------------------------------------------------------------------------------------
 // KITTI .bin and .xyz text.
 
-Points ReadKittiBin(const std::string& path, const std::string& bytes) {
-  constexpr std::size_t kStride = 4 * sizeof(float);
-  if (bytes.size() % kStride != 0) {
-    Fail(path, "size " + std::to_string(bytes.size()) +
-                   " bytes is not a multiple of 16 (KITTI .bin holds float32 x, y, z, intensity)");
+// A .bin file has no header: its record layout is the caller's word (4 float32 fields: KITTI's
+// x, y, z, intensity; 5: nuScenes' x, y, z, intensity, ring). Read with the wrong layout, the
+// fields slide across records and coordinates land in the intensity and ring fields, so the file
+// is checked to look like a LiDAR scan: finite coordinates within 10 km, intensity >= 0, and (5
+// fields) a whole ring number in [0, 1024), for at least 99 % of the records.
+Points ReadBin(const std::string& path, const std::string& bytes, int fields) {
+  const std::size_t stride = static_cast<std::size_t>(fields) * sizeof(float);
+  const std::string layout = fields == 4 ? "KITTI: float32 x, y, z, intensity" : "nuScenes: float32 x, y, z, intensity, ring";
+  if (bytes.size() % stride != 0) {
+    Fail(path, "size " + std::to_string(bytes.size()) + " bytes is not a multiple of " + std::to_string(stride) + " (" +
+                   layout + "; --bin-fields sets the layout)");
   }
   const ByteReader reader(bytes, /*big_endian=*/false);
-  Points points(bytes.size() / kStride);
+  Points points(bytes.size() / stride);
+  std::size_t implausible = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     for (int axis = 0; axis < 3; ++axis) {
-      points[i][axis] = reader.Read(i * kStride + axis * sizeof(float), ScalarType::kFloat32);
+      points[i][axis] = reader.Read(i * stride + axis * sizeof(float), ScalarType::kFloat32);
     }
+    const double intensity = reader.Read(i * stride + 3 * sizeof(float), ScalarType::kFloat32);
+    bool ok = points[i].allFinite() && points[i].cwiseAbs().maxCoeff() <= 1e4 && intensity >= 0.0;
+    if (fields == 5) {
+      const double ring = reader.Read(i * stride + 4 * sizeof(float), ScalarType::kFloat32);
+      ok = ok && ring >= 0.0 && ring < 1024.0 && ring == std::floor(ring);
+    }
+    // NaN points are data (the mapper drops and counts them), not a sign of the wrong layout.
+    if (!ok && !points[i].hasNaN()) ++implausible;
+  }
+  if (implausible > points.size() / 100) {
+    Fail(path, std::to_string(implausible) + " of " + std::to_string(points.size()) +
+                   " records do not look like LiDAR points as " + layout + " (wrong --bin-fields?)");
   }
   return points;
 }
@@ -705,7 +736,8 @@ CloudFormat FormatFromExtension(const std::string& path) {
   return CloudFormat::kAuto;
 }
 
-Points ReadCloud(const std::string& path, CloudFormat format) {
+Points ReadCloud(const std::string& path, CloudFormat format, int bin_fields) {
+  if (bin_fields != 4 && bin_fields != 5) Fail(path, "a .bin record has 4 or 5 float32 fields, not " + std::to_string(bin_fields));
   if (format == CloudFormat::kAuto) format = FormatFromExtension(path);
   if (format == CloudFormat::kAuto) {
     const std::string ext = std::filesystem::path(path).extension().string();
@@ -717,7 +749,7 @@ Points ReadCloud(const std::string& path, CloudFormat format) {
   switch (format) {
     case CloudFormat::kPly: return ReadPly(path, bytes);
     case CloudFormat::kPcd: return ReadPcd(path, bytes);
-    case CloudFormat::kKittiBin: return ReadKittiBin(path, bytes);
+    case CloudFormat::kKittiBin: return ReadBin(path, bytes, bin_fields);
     default: return ReadXyz(path, bytes);
   }
 }

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -56,6 +58,17 @@ class CliTest : public ::testing::Test {
   }
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
   void WriteText(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+  // A LiDAR-like .bin: `n` points on a half sphere of radius 5-25 m around the origin, `fields`
+  // float32 per record (x, y, z, intensity in [0, 1], and for 5 fields the ring 0-31).
+  void WriteBin(const std::string& name, int fields, int n) const {
+    std::ofstream out(dir_ / name, std::ios::binary);
+    for (int i = 0; i < n; ++i) {
+      const double az = 0.37 * i, el = -0.4 + 0.8 * ((i * 7919) % 997) / 997.0, r = 5.0 + (i % 200) * 0.1;
+      const float rec[5] = {static_cast<float>(r * std::cos(el) * std::cos(az)), static_cast<float>(r * std::cos(el) * std::sin(az)),
+                            static_cast<float>(r * std::sin(el)), static_cast<float>((i % 100) / 100.0), static_cast<float>(i % 32)};
+      out.write(reinterpret_cast<const char*>(rec), fields * sizeof(float));
+    }
+  }
 
   fs::path dir_;
 };
@@ -135,7 +148,22 @@ TEST_F(CliTest, BadInputGivesOneLineAndExitCode2) {
       {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --kernel cubic", "kernel"},
       {"mesh " + Path("room.ply"), "viewpoint"},
       {"fly", "fly"},
+      // Parameters that used to take minutes or not finish.
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --gamma -300", "gamma in [-1, 0)"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --kernel linear --gamma 1e160", "at most 1e7"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --max-points -1", "--max-points must be >= 0"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --bin-fields 6", "--bin-fields"},
+      {"mesh " + Path("room.ply") + " --viewpoint 0,0,0 --min-range -1", "--min-range"},
+      // Files that would block or never end, and a .bin read with the wrong record layout.
+      {"mesh " + Path("fifo.xyz") + " --viewpoint 0,0,0", "not a regular file"},
+      {"mesh " + Path("zero.bin") + " --viewpoint 0,0,0", "not a regular file"},
+      {"mesh " + Path("nuscenes.bin") + " --viewpoint 0,0,0", "wrong --bin-fields"},
+      {"mesh " + Path("kitti.bin") + " --viewpoint 0,0,0 --bin-fields 5", "wrong --bin-fields"},
   };
+  ASSERT_EQ(::mkfifo(Path("fifo.xyz").c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", Path("zero.bin"));
+  WriteBin("nuscenes.bin", 5, 4000);  // 80,000 bytes: a multiple of 16 as well
+  WriteBin("kitti.bin", 4, 5000);     // 80,000 bytes: a multiple of 20 as well
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
     const RunResult r = Run(c.args);
@@ -143,6 +171,19 @@ TEST_F(CliTest, BadInputGivesOneLineAndExitCode2) {
     EXPECT_EQ(CountLines(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
   }
+}
+
+// The layouts are told apart, and read right with the right --bin-fields.
+TEST_F(CliTest, BinFilesAreReadWithTheirRecordLayout) {
+  WriteBin("kitti.bin", 4, 5000);
+  WriteBin("nuscenes.bin", 5, 4000);
+  const RunResult kitti = Run("mesh " + Path("kitti.bin") + " --viewpoint 0,0,0 -q --json " + Path("k.json"));
+  ASSERT_EQ(kitti.exit_code, 0) << kitti.err;
+  EXPECT_EQ(nlohmann::json::parse(ReadAll(Path("k.json")))["input_points"], 5000);
+  const RunResult nuscenes =
+      Run("mesh " + Path("nuscenes.bin") + " --bin-fields 5 --viewpoint 0,0,0 -q --json " + Path("n.json"));
+  ASSERT_EQ(nuscenes.exit_code, 0) << nuscenes.err;
+  EXPECT_EQ(nlohmann::json::parse(ReadAll(Path("n.json")))["input_points"], 4000);
 }
 
 TEST_F(CliTest, HelpDescribesDroppedPoints) {

@@ -22,7 +22,8 @@ struct Ghpr {
     /// exact and give the same mesh; CGAL's is slower and is the reference in tests and benchmarks.
     /// The incremental hull hands degenerate clouds (coplanar or duplicate points) to CGAL anyway.
     bool reference_hull = false;
-    /// @throws std::invalid_argument if gamma has the wrong sign for the kernel or is not finite.
+    /// @throws std::invalid_argument if gamma is not finite or out of range for the kernel: in
+    /// [-1, 0) for the exponential one, in (0, 1e7] m for the linear one.
     void Validate() const;
   };
 };

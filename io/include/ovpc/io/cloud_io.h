@@ -26,11 +26,13 @@ CloudFormat FormatFromExtension(const std::string& path);
 
 /// Reads x, y, z of every point. Supports PLY (ascii, binary little and big endian; any vertex
 /// property layout with float/double/int x, y, z), PCD (ascii and binary; binary_compressed is
-/// reported as unsupported), KITTI .bin (float32 x, y, z, intensity) and .xyz text (x y z per line,
-/// extra columns ignored, '#' comments). Non-finite values are returned as they are (the mapper
-/// drops and counts them).
+/// reported as unsupported), .bin with `bin_fields` float32 fields per record (4: KITTI's x, y, z,
+/// intensity; 5: nuScenes' x, y, z, intensity, ring; a file that does not look like LiDAR points in
+/// that layout is refused) and .xyz text (x y z per line, extra columns ignored, '#' comments).
+/// Non-finite values are returned as they are (the mapper drops and counts them). Only regular
+/// files of at most 2 GiB are read.
 /// @throws CloudIoError for a missing/unreadable file, an unknown or malformed format.
-Points ReadCloud(const std::string& path, CloudFormat format = CloudFormat::kAuto);
+Points ReadCloud(const std::string& path, CloudFormat format = CloudFormat::kAuto, int bin_fields = 4);
 
 /// Binary little-endian PLY with float x, y, z.
 void WriteCloudPly(const std::string& path, const Points& points);
