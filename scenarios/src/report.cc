@@ -232,8 +232,9 @@ void WriteTopdownPng(const Scenario& scenario, const RunResult& r, const std::st
     const double reach = s.half_extents.head<2>().norm();
     const Eigen::Isometry3d T_X_W = s.T_W_X.inverse();
     const Vec3 c = s.T_W_X.translation();
-    for (double y = c.y() - reach; y <= c.y() + reach; y += 0.5 / px_per_m) {
-      for (double x = c.x() - reach; x <= c.x() + reach; x += 0.5 / px_per_m) {
+    // Only the part on the picture: the loops scale with the image, not with the object.
+    for (double y = std::max(c.y() - reach, lo.y()); y <= std::min(c.y() + reach, hi.y()); y += 0.5 / px_per_m) {
+      for (double x = std::max(c.x() - reach, lo.x()); x <= std::min(c.x() + reach, hi.x()); x += 0.5 / px_per_m) {
         const Vec3 p = T_X_W * Vec3(x, y, c.z());
         bool inside;
         if (s.shape == sim::Solid::Shape::kBox) {
@@ -247,8 +248,9 @@ void WriteTopdownPng(const Scenario& scenario, const RunResult& r, const std::st
     }
   }
   for (const Region& region : scenario.criteria.forbidden) {
-    for (double y = region.min_m.y(); y <= region.max_m.y(); y += 0.5 / px_per_m)
-      for (double x = region.min_m.x(); x <= region.max_m.x(); x += 0.5 / px_per_m) canvas.Dot({x, y}, 0, {230, 120, 0}, 0.25);
+    for (double y = std::max(region.min_m.y(), lo.y()); y <= std::min(region.max_m.y(), hi.y()); y += 0.5 / px_per_m)
+      for (double x = std::max(region.min_m.x(), lo.x()); x <= std::min(region.max_m.x(), hi.x()); x += 0.5 / px_per_m)
+        canvas.Dot({x, y}, 0, {230, 120, 0}, 0.25);
   }
   // The robot's maps: traversable green, not traversable red.
   for (const MapPoint& p : r.map_points) {

@@ -2,11 +2,13 @@
 #include "ovpc/scenarios/closed_loop.h"
 
 #include <algorithm>
+#include <filesystem>
 
 
 #include <gtest/gtest.h>
 
 #include "../support/test_scenarios.h"
+#include "ovpc/scenarios/report.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
 namespace ovpc::scenarios {
@@ -42,6 +44,31 @@ TEST(ClosedLoopTest, AnImpossibleDeadlineFails) {
   const Scenario s = ParseScenario(kShort, "short.yaml", {"criteria.max_time_s=1", "time_limit_s=3"});
   const RunResult r = RunClosedLoop(s, 1, RunOptions{});
   EXPECT_FALSE(r.passed);
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
+
+namespace ovpc::scenarios {
+namespace {
+
+// The top-down picture's work scales with the picture, not with the world: a huge object or
+// forbidden region is drawn only where the picture is (these took hours before).
+TEST(ReportTest, TopDownPictureOfHugeObjectsIsDrawnOnlyWhereThePictureIs) {
+  const Scenario s = ParseScenario(R"(name: huge
+time_limit_s: 5
+terrain: {kind: flat, size_m: [40, 20]}
+objects:
+  - cylinder: {x_m: 3.0, y_m: 4.0, radius_m: 100000.0, height_m: 1.0}
+  - box: {x_m: 0.0, y_m: 0.0, length_m: 500000.0, width_m: 3.0}
+route: [[0, 0], [5, 0]]
+criteria:
+  forbidden: [{name: everything, min_m: [-1e7, -1e7], max_m: [1e7, 1e7]}]
+)",
+                                   "huge.yaml");
+  const std::string file = ::testing::TempDir() + "/huge_topdown.png";
+  WriteTopdownPng(s, RunResult{}, file);
+  EXPECT_GT(std::filesystem::file_size(file), 1000u);
 }
 
 }  // namespace
