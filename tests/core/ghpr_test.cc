@@ -131,6 +131,25 @@ TEST(GhprTest, GammaOfTheWrongSignIsRejected) {
   EXPECT_EQ(ParseKernel("linear"), GhprKernel::kLinear);
 }
 
+// Past these bounds the image points overflow or collapse: gamma -103 with a point 1 mm from the
+// viewpoint made an inf image point that crashed the exact hull (SIGFPE), -300 took 74 s.
+TEST(GhprTest, GammaOutsideItsWellConditionedRangeIsRejected) {
+  Points room = testing::BoxRoom(Vec3(1, 1, 1), 0.5);
+  room.push_back(Vec3(1e-3, 0.0, 0.0));
+  Ghpr::Config config;
+  for (double gamma : {-103.0, -300.0, -1.0001}) {
+    config.gamma = gamma;
+    EXPECT_THROW(ComputeGhpr(room, Vec3::Zero(), config), std::invalid_argument) << gamma;
+  }
+  config.gamma = -1.0;
+  EXPECT_EQ(ComputeGhpr(room, Vec3::Zero(), config).status, GhprStatus::kOk);
+  config.kernel = GhprKernel::kLinear;
+  for (double gamma : {1e308, 1e160, 1.1e7}) {
+    config.gamma = gamma;
+    EXPECT_THROW(ComputeGhpr(room, Vec3::Zero(), config), std::invalid_argument) << gamma;
+  }
+}
+
 TEST(GhprTest, TooFewAndDegenerateCloudsGiveAStatus) {
   EXPECT_EQ(ComputeGhpr({Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}, Vec3::Zero(), {}).status,
             GhprStatus::kTooFewPoints);

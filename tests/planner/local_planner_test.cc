@@ -301,7 +301,7 @@ TEST(LocalPlannerTest, PathBlockedAfterAMapUpdateIsDetected) {
   // The same straight path on the map with posts across it.
   const auto blocked = planner.FirstInvalidPose(*Posts().map, result.path);
   ASSERT_TRUE(blocked.has_value());
-  const PathPose& p = result.path.Poses()[*blocked];
+  const PathPose p = result.path.Poses()[*blocked];  // a copy: Poses() returns a temporary
   // The first invalid pose is where the box front (2.45 m ahead of the rear axle) meets the posts at
   // x = -1.35, or the non-traversable ground around them (up to a metre wide here, where the posts
   // hide the ground from the viewpoint).

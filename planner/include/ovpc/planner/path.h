@@ -44,7 +44,8 @@ struct Path {
 
   bool empty() const { return segments.empty(); }
   double Length() const;
-  /// Every pose once, in driving order (cusp poses are not repeated).
+  /// Every pose once, in driving order (cusp poses are not repeated). A new vector at every call:
+  /// keep it, never a reference into it.
   std::vector<PathPose> Poses() const;
   int NumCusps() const { return segments.empty() ? 0 : static_cast<int>(segments.size()) - 1; }
   /// The poses `first` to `last` (indices into Poses(), inclusive) with their segments and cusps; an
