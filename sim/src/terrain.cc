@@ -74,8 +74,9 @@ void TerrainConfig::Validate() const {
   require(cell_m > 0.0 && std::isfinite(cell_m), "cell_m must be > 0");
   require(size_x_m >= cell_m && std::isfinite(size_x_m), "size_x_m must be >= cell_m");
   require(size_y_m >= cell_m && std::isfinite(size_y_m), "size_y_m must be >= cell_m");
-  require(static_cast<double>(GridCount(size_x_m, cell_m)) * GridCount(size_y_m, cell_m) <=
-              kMaxGridVertices,
+  // Counted in floating point: a size over a cell must not be converted to int before it is bounded.
+  const auto count = [this](double size_m) { return std::ceil(size_m / cell_m - 1e-9) + 1.0; };
+  require(count(size_x_m) * count(size_y_m) <= kMaxGridVertices,
           "size_x_m / cell_m * size_y_m / cell_m is too large (more than 4 million vertices, e.g. 400 m x 400 m "
           "at the 0.2 m cell)");
   require(std::isfinite(direction_deg), "direction_deg must be finite");

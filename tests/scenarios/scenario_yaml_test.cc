@@ -215,6 +215,9 @@ TEST(ScenarioValidationTest, ValuesThatWouldRunForeverOrOffTheWorldAreRefused) {
   EXPECT_NE(LoadError(forever).find("time_limit_s must be in (0, 86400] s"), std::string::npos) << LoadError(forever);
   const std::string huge = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1000, 1000]}\nroute: [[0, 0]]\n";
   EXPECT_NE(LoadError(huge).find("more than 4 million vertices"), std::string::npos) << LoadError(huge);
+  // A size over a cell beyond int (5e12 cells) is bounded before it is converted.
+  const std::string vast = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1e12, 10]}\nroute: [[0, 0]]\n";
+  EXPECT_NE(LoadError(vast).find("more than 4 million vertices"), std::string::npos) << LoadError(vast);
   const std::string twice = "name: b\ntime_limit_s: 5\ntime_limit_s: 9\nroute: [[0, 0]]\n";
   EXPECT_EQ(LoadError(twice).rfind("bad.yaml:3: duplicate key 'time_limit_s'", 0), 0u) << LoadError(twice);
   const std::string twice_inside = base + "route: [[0, 0]]\nnavigator: {buffer: {max_scans: 3, max_scans: 4}}\n";
