@@ -211,6 +211,21 @@ Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, Buff
   if (!(voxel_size_m > 0.0)) return points;
   double max_abs = 0.0;
   for (const Vec3& p : points) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
+  // Voxel keys are at most 64-bit: a coordinate of more voxels than that (1e30 m at 0.1 m) cannot be
+  // converted; such points are dropped and counted as out of range, never all merged into one voxel.
+  constexpr double kMaxVoxels = 4e18;
+  if (max_abs / voxel_size_m >= kMaxVoxels) {
+    Points in_range;
+    in_range.reserve(points.size());
+    for (const Vec3& p : points) {
+      if (p.cwiseAbs().maxCoeff() / voxel_size_m < kMaxVoxels) {
+        in_range.push_back(p);
+      } else if (stats != nullptr) {
+        ++stats->out_of_range;
+      }
+    }
+    return VoxelFilter(in_range, voxel_size_m, min_hits, stats);
+  }
   return KeysFitInt32(max_abs, voxel_size_m) ? VoxelFilterWith<std::int32_t>(points, voxel_size_m, min_hits, stats)
                                              : VoxelFilterWith<std::int64_t>(points, voxel_size_m, min_hits, stats);
 }

@@ -286,6 +286,23 @@ TEST(PointCloudBufferTest, VoxelFilterAndSubsampleMatchTheReference) {
   }
 }
 
+// A coordinate too far for a 64-bit voxel index (1e30 m at 0.1 m) once merged every point into one
+// voxel (an out-of-range double-to-int conversion); it is dropped and counted instead.
+TEST(PointCloudBufferTest, VoxelFilterDropsPointsBeyondAnyVoxelIndex) {
+  Points points;
+  for (int i = 0; i < 10; ++i) {
+    points.emplace_back(0.05 + i, 0.05, 0.05);  // ten voxels, two hits each
+    points.emplace_back(0.06 + i, 0.05, 0.05);
+  }
+  points.emplace_back(1e30, 0.0, 0.0);
+  points.emplace_back(1e30, 0.0, 0.0);
+  BufferStats stats;
+  const Points out = VoxelFilter(points, 0.1, 2, &stats);
+  EXPECT_EQ(out.size(), 10u);
+  EXPECT_EQ(stats.out_of_range, 2u);
+  for (const Vec3& p : out) EXPECT_LT(p.norm(), 10.0);
+}
+
 TEST(PointCloudBufferTest, KnownPosesGiveKnownPointsInTheNewestSensorFrame) {
   PointCloudBuffer buffer(NoFilter());
   // Scan 1: sensor at (1, 2, 1.88) facing +y (yaw 90 deg); a point 3 m ahead in the sensor frame.
