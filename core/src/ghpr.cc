@@ -48,6 +48,27 @@ bool SpansVolume(const Points& images) {
   return false;
 }
 
+// Whether the input points and the viewpoint span a volume, with exact predicates on the coordinates
+// as given. The image transform rounds, so points exactly in one plane with the viewpoint (a line
+// y = 5, z = -1 seen from the origin) can give image points a few ulps off the plane, which the
+// hull then takes for a sliver of a volume; tested on the input, they are coplanar. Usually the
+// first few points decide.
+bool InputSpansVolume(const Points& points, const Vec3& viewpoint) {
+  const Point3 v = ToCgal(viewpoint);
+  std::size_t i1 = 0;
+  while (i1 < points.size() && ToCgal(points[i1]) == v) ++i1;
+  if (i1 >= points.size()) return false;
+  const Point3 p1 = ToCgal(points[i1]);
+  std::size_t i2 = 0;
+  while (i2 < points.size() && CGAL::collinear(v, p1, ToCgal(points[i2]))) ++i2;
+  if (i2 >= points.size()) return false;
+  const Point3 p2 = ToCgal(points[i2]);
+  for (const Vec3& p : points) {
+    if (!CGAL::coplanar(v, p1, p2, ToCgal(p))) return true;
+  }
+  return false;
+}
+
 // The reference path: CGAL's quickhull over point indices (exact predicates), outputs as in
 // internal::IncrementalHull (ascending vertex indices, outward faces as point indices).
 void CgalHull(const Points& images, std::vector<int>* vertices, std::vector<std::array<int, 3>>* faces) {
@@ -162,6 +183,12 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
     return result;
   }
   result.transform_ms = MsSince(t);
+
+  if (!InputSpansVolume(points, viewpoint)) {
+    result.status = GhprStatus::kDegenerate;
+    result.message = "all points lie in one plane with the viewpoint: the hull has no volume";
+    return result;
+  }
 
   t = Clock::now();
   std::vector<int>& hull_vertices = scratch.hull_vertices;         // image indices, ascending

@@ -159,6 +159,18 @@ TEST(GhprTest, TooFewAndDegenerateCloudsGiveAStatus) {
   Points line;
   for (int i = 1; i < 10; ++i) line.emplace_back(i, 2.0 * i, 0.5 * i);
   EXPECT_EQ(ComputeGhpr(line, Vec3::Zero(), {}).status, GhprStatus::kDegenerate);
+  // An oblique plane through the viewpoint: exactly coplanar as given, though the rounded image
+  // points are not (this gave "100 % visible, watertight" and a zero-volume mesh).
+  Points oblique;
+  for (int i = 0; i < 1000; ++i) oblique.emplace_back(-10.0 + 0.02 * i, 5.0, -1.0);
+  EXPECT_EQ(ComputeGhpr(oblique, Vec3::Zero(), {}).status, GhprStatus::kDegenerate);
+  Points tilted;  // points on the plane x + 2y + 3z = 0 through the origin
+  for (int i = -10; i <= 10; ++i) {
+    for (int j = -10; j <= 10; ++j) {
+      if (i != 0 || j != 0) tilted.emplace_back(3.0 * i, 3.0 * j, -(3.0 * i + 6.0 * j) / 3.0);
+    }
+  }
+  EXPECT_EQ(ComputeGhpr(tilted, Vec3::Zero(), {}).status, GhprStatus::kDegenerate);
   // The same plane seen from above is the normal case of flat ground.
   const GhprResult ground = ComputeGhpr(plane, Vec3(0.1, 0.2, 1.88), {});
   ASSERT_EQ(ground.status, GhprStatus::kOk);
