@@ -184,7 +184,8 @@ Runner RegisterSuite(CLI::App& app) {
         for (const auto& kv : combo) tag += "__" + kv;
         std::replace(tag.begin(), tag.end(), '/', '_');
         // Two files with one scenario name get folders of their own.
-        for (int k = 2; tag_files.count(tag) && tag_files[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + tag.substr(s.name.size());
+        const std::string suffix = tag.substr(s.name.size());
+        for (int k = 2; tag_files.count(tag) && tag_files[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + suffix;
         tag_files[tag] = file;
         for (int seed = o->first_seed; seed < o->first_seed + o->seeds; ++seed) {
           Job job;

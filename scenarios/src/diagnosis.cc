@@ -6,9 +6,12 @@
 #include <iomanip>
 #include <map>
 #include <sstream>
+#include "format.h"
 
 namespace ovpc::scenarios {
 namespace {
+
+using internal::Fixed;
 
 constexpr double kStandingMps = 0.05;    // slower than this counts as standing
 constexpr double kMovingMps = 0.1;       // a direction counts once this fast (hysteresis)
@@ -16,12 +19,6 @@ constexpr double kWindowS = 30.0;        // "lately"
 constexpr double kStalledS = 10.0;       // standing this long at the end: stalled
 constexpr int kRockingReversals = 4;     // this many reversals lately ...
 constexpr double kRockingMaxMoveM = 3.0; // ... while getting less far than this: rocking
-
-std::string Fixed(double v, int digits) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
 
 bool CriterionFailed(const RunResult& r, const std::string& name) {
   return std::any_of(r.criteria.begin(), r.criteria.end(),

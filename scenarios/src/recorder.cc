@@ -7,15 +7,12 @@
 
 #include "ovpc/io/cloud_io.h"
 #include "ovpc/sim/image.h"
+#include "format.h"
 
 namespace ovpc::scenarios {
 namespace {
 
-std::string Fixed(double v, int digits) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
+using internal::Fixed;
 
 // x, y and heading of a planar pose of frame L in the world frame.
 Eigen::Vector3d ToWorld(const Eigen::Isometry3d& T_W_L, const planner::Pose2& p) {

@@ -6,19 +6,16 @@
 #include <sstream>
 
 #include "ovpc/planner/local_goal.h"
+#include "format.h"
 
 namespace ovpc::scenarios {
 namespace {
 
+using internal::Fixed;
+
 // Route progress of the true pose is tracked in a window that moves with the vehicle, so that a
 // route passing near itself (laps side by side) is not scored as done when the vehicle cuts across.
 constexpr double kProgressBackM = 5.0, kProgressAheadM = 10.0;
-
-std::string Fixed(double v, int digits) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
 
 void RollPitchDeg(const Eigen::Isometry3d& T, double* roll_deg, double* pitch_deg) {
   const Eigen::Matrix3d& R = T.linear();

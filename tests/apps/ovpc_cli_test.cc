@@ -305,5 +305,19 @@ TEST_F(CliTest, SuiteReportsAMalformedFileAndAKilledRunAsErrorsAndTheRestInFull)
   EXPECT_NE(junit.find("<error message=\"killed by signal 9"), std::string::npos) << junit;
 }
 
+// Files that share a scenario name each get their own run folder and report their own figures.
+TEST_F(CliTest, SuiteGivesFilesWithOneScenarioNameFoldersOfTheirOwn) {
+  for (const char* dir : {"a", "b", "c"}) {
+    fs::create_directories(Path(dir));
+    WriteText(std::string(dir) + "/short.yaml", testing::kShortFlatScenario);
+  }
+  const RunResult r = Run("suite " + Path("a/short.yaml") + " " + Path("b/short.yaml") + " " + Path("c/short.yaml") +
+                          " --jobs 2 --out " + Path("suite"));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const char* folder : {"short_flat", "short_flat_2", "short_flat_3"}) {
+    EXPECT_TRUE(fs::exists(fs::path(Path("suite")) / folder / "seed_1" / "result.json")) << folder;
+  }
+}
+
 }  // namespace
 }  // namespace ovpc
