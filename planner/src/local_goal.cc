@@ -111,8 +111,16 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   };
 
   // Cells: known traversable, known non-traversable (blocked) or unknown, from the ground projection
-  // of the cell's centre; blocked cells grow by half the vehicle's width.
+  // of the cell's centre; blocked cells grow by half the vehicle's width. Known ground with a map
+  // point over it in the vehicle's height band (above the ground clearance, below the mast's top) is
+  // blocked too: the vehicle cannot be there, so neither the reach nor the cost to go passes under a
+  // roof too low for it.
   enum : std::uint8_t { kUnknown, kFree, kBlocked };
+  VehicleBox column = vehicle;
+  column.length_m = column.width_m = cell;
+  column.centre_ahead_m = 0.0;
+  column.margin_m = 0.0;
+  column.footprint_check = VehicleBox::FootprintCheck::kWheels;
   std::vector<std::uint8_t> state(static_cast<std::size_t>(nx) * ny, kUnknown);
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
@@ -123,7 +131,9 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
       // Known traversable from the nearest visible point; known non-traversable only from a point
       // in the cell: a single steep vertex among sparse ground claims no cells around it.
       if (g->traversable) {
-        if ((g->surface_point.head<2>() - c).norm() <= config.reach_support_m) state[index(ix, iy)] = kFree;
+        if ((g->surface_point.head<2>() - c).norm() <= config.reach_support_m) {
+          state[index(ix, iy)] = map.CheckBox(*g, column) == PoseCheck::kCollision ? kBlocked : kFree;
+        }
       } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell) {
         state[index(ix, iy)] = kBlocked;
       }
@@ -223,7 +233,11 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < state.size(); ++i) {
     if (!std::isfinite(reach[i]) || !std::isfinite(to_go[i])) continue;
-    score[i] = to_go[i] + config.reach_offset_penalty * off_route(centre(static_cast<int>(i % nx), static_cast<int>(i / nx)));
+    const Eigen::Vector2d c = centre(static_cast<int>(i % nx), static_cast<int>(i / nx));
+    score[i] = to_go[i] + config.reach_offset_penalty * off_route(c);
+    if (previous_L && config.previous_goal_penalty > 0.0) {
+      score[i] += config.previous_goal_penalty * (c - Eigen::Vector2d(previous_L->pose.x_m, previous_L->pose.y_m)).norm();
+    }
     order.push_back(i);
   }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return score[a] < score[b]; });
@@ -302,6 +316,10 @@ void LocalGoalSelection::Config::Validate() const {
   }
   if (!(max_gap_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_gap_m must be > 0");
   if (!(max_ahead_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_ahead_m must be > 0");
+  if (!(previous_goal_penalty >= 0.0) || !std::isfinite(previous_goal_penalty)) {
+    throw std::invalid_argument("LocalGoalSelection::Config: previous_goal_penalty must be >= 0, got " +
+                                std::to_string(previous_goal_penalty));
+  }
   if (!(keep_previous_within_m >= 0.0) || !std::isfinite(keep_previous_within_m)) {
     throw std::invalid_argument("LocalGoalSelection::Config: keep_previous_within_m must be >= 0, got " +
                                 std::to_string(keep_previous_within_m));

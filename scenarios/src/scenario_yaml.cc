@@ -1,6 +1,7 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -71,6 +72,50 @@ void ReadTerrain(MapReader r, sim::TerrainConfig* t) {
   r.Finish();
 }
 
+// A post field: posts on a grid of `spacing_m` over the rectangle x_m × y_m, each moved by up to
+// jitter × spacing / 2 in x and y (0: rows; 1: scattered, neighbours still at least
+// spacing × (1 - jitter) apart, as posts may not overlap), from its own seeded stream: the same file
+// gives the same posts on every machine.
+void ReadPostField(MapReader& r, const YAML::Node& item, sim::World* w) {
+  Eigen::Vector2d xs(0.0, 0.0), ys(0.0, 0.0);
+  if (const YAML::Node n = r.Child("x_m")) xs = r.GetXY(n, r.Key("x_m"));
+  else r.Fail(item, "'" + r.Key("x_m") + "' is required: [min, max]");
+  if (const YAML::Node n = r.Child("y_m")) ys = r.GetXY(n, r.Key("y_m"));
+  else r.Fail(item, "'" + r.Key("y_m") + "' is required: [min, max]");
+  double spacing = 3.0, jitter = 0.0, radius = 0.1, height = 2.0;
+  int seed = 1;
+  r.Get("spacing_m", &spacing);
+  r.Get("jitter", &jitter);
+  r.Get("radius_m", &radius);
+  r.Get("height_m", &height);
+  r.Get("seed", &seed);
+  if (!(xs.y() >= xs.x()) || !(ys.y() >= ys.x())) r.Fail(item, "'" + r.Key("x_m") + "' and 'y_m' must be [min, max] with min <= max");
+  if (!(jitter >= 0.0 && jitter <= 1.0)) r.Fail(r.Child("jitter"), "'" + r.Key("jitter") + "' must be in [0, 1]");
+  if (!(radius > 0.0) || !(spacing * (1.0 - jitter) > 2.0 * radius)) {
+    r.Fail(item, "'" + r.Key("spacing_m") + "' × (1 - jitter) must exceed the posts' diameter");
+  }
+  constexpr double kMaxPosts = 10000;  // a field larger than this is not a scene the loop can run
+  const double nx = std::floor((xs.y() - xs.x()) / spacing) + 1, ny = std::floor((ys.y() - ys.x()) / spacing) + 1;
+  if (!(nx * ny <= kMaxPosts)) r.Fail(item, "'" + r.Key("spacing_m") + "' gives more than 10000 posts over the field");
+  std::uint64_t state = 0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(seed) + 1);
+  const auto uniform = [&state]() {  // splitmix64, 53 bits in [0, 1)
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  for (int iy = 0; iy < static_cast<int>(ny); ++iy) {
+    for (int ix = 0; ix < static_cast<int>(nx); ++ix) {
+      sim::CylinderObject o;
+      o.x_m = xs.x() + ix * spacing + jitter * spacing * (uniform() - 0.5);
+      o.y_m = ys.x() + iy * spacing + jitter * spacing * (uniform() - 0.5);
+      o.radius_m = radius;
+      o.height_m = height;
+      w->cylinders.push_back(o);
+    }
+  }
+}
+
 void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w) {
   if (!list.IsSequence()) throw ScenarioError(Where(file, list) + ": 'objects' must be a list");
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -78,7 +123,8 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
     const std::string ctx = "objects[" + std::to_string(i) + "]";
     if (!item.IsMap() || item.size() != 1) {
       throw ScenarioError(Where(file, item) + ": '" + ctx +
-                          "' must be one of {box: ...}, {cylinder: ...}, {sphere: ...}, {ellipsoid: ...}, {carport: ...}");
+                          "' must be one of {box: ...}, {cylinder: ...}, {sphere: ...}, {ellipsoid: ...}, {carport: ...}, "
+                          "{post_field: ...}");
     }
     const std::string type = item.begin()->first.as<std::string>();
     MapReader r(item.begin()->second, ctx + "." + type, file);
@@ -128,8 +174,10 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
       r.Get("post_radius_m", &o.post_radius_m);
       r.Get("post_inset_m", &o.post_inset_m);
       w->carports.push_back(o);
+    } else if (type == "post_field") {
+      ReadPostField(r, item, w);
     } else {
-      r.Fail(item, "unknown object type '" + type + "' in '" + ctx + "' (box, cylinder, sphere, ellipsoid, carport)");
+      r.Fail(item, "unknown object type '" + type + "' in '" + ctx + "' (box, cylinder, sphere, ellipsoid, carport, post_field)");
     }
     r.Finish();
   }

@@ -440,5 +440,78 @@ TEST(LocalGoalTest, ReachableGoalStaysOnGroundDenseEnoughToStandOn) {
   EXPECT_THROW(config.Validate(), std::invalid_argument);
 }
 
+
+// Flat traversable ground over x in [-10, xmax], y in [-10, 10], with a roof too low for the vehicle
+// over x in [x0, x1], |y| <= 3: the ground under it is seen and traversable, but a box there
+// collides.
+class LowRoofMap : public PlanningMap {
+ public:
+  /// Beside the roof (|y| > 3) the ground is known up to x_side (the roof's shadow), under it up to
+  /// x_max.
+  LowRoofMap(double x_max, double x0, double x1, double x_side) : x_max_(x_max), x0_(x0), x1_(x1), x_side_(x_side) {}
+  bool Known(double x, double y) const {
+    return x >= -10.0 && x <= (std::abs(y) <= 3.0 ? x_max_ : x_side_) && std::abs(y) <= 10.0;
+  }
+  bool Roof(double x, double y) const { return x >= x0_ && x <= x1_ && std::abs(y) <= 3.0; }
+  std::optional<GroundPose> Project(const Pose2& pose) const override {
+    if (!Known(pose.x_m, pose.y_m)) return std::nullopt;
+    return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), true);
+  }
+  PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override {
+    const double x0 = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
+    const double half = 0.5 * vehicle.width_m + vehicle.margin_m;
+    for (double x = x0; x <= x0 + vehicle.length_m + 2 * vehicle.margin_m + 1e-9; x += 0.1) {
+      for (double y = -half; y <= half + 1e-9; y += 0.1) {
+        const Vec3 p = ground.T_L_B * Vec3(x, y, 0.0);
+        if (Roof(p.x(), p.y())) return PoseCheck::kCollision;
+        if (!Known(p.x(), p.y())) return PoseCheck::kGroundUnderFootprint;
+      }
+    }
+    return PoseCheck::kValid;
+  }
+  bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m); }
+  MapBounds Bounds() const override { return MapBounds{-10.0, x_max_, -10.0, 10.0}; }
+
+ private:
+  double x_max_, x0_, x1_, x_side_;
+};
+
+TEST(LocalGoalTest, ReachableGoalGoesRoundARoofTooLowToPassUnder) {
+  // The ground under the roof is traversable, but the vehicle cannot be there; the known ground ends
+  // at the roof's far edge, and beside the roof 3 m short of it (its shadow): the cost to go goes
+  // round the roof, not under it.
+  const LowRoofMap map(4.0, 0.0, 4.0, -3.0);
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {30.0, 0.0}};
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
+  const auto goals = SelectLocalGoals(map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, std::nullopt, 3);
+  ASSERT_FALSE(goals.empty());
+  // The best goal is at the front edge on the side of the corner, heading round it (with the roof
+  // ignored it heads straight on, under the roof).
+  EXPECT_GT(std::abs(goals.front().pose.yaw_rad), 0.3);
+  EXPECT_LT(goals.front().pose.x_m, 0.0);
+  for (const LocalGoal& g : goals) EXPECT_EQ(CheckPose(map, VehicleBox{}, g.pose), PoseCheck::kValid);
+}
+
+TEST(LocalGoalTest, ReachableGoalKeepsToTheSideOfThePreviousGoalWhenBothAreAsGood) {
+  // The known ground ends at x = 4, over the roof: the two ways round it are equally good, and
+  // the previous goal's side is kept.
+  const LowRoofMap map(4.0, 0.0, 4.0, 4.0);
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {30.0, 0.0}};
+  const Pose2 start{-6.0, 0.0, 0.0};
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
+  config.previous_goal_penalty = 0.3;
+  for (const double side : {-1.0, 1.0}) {
+    // The previous goal, on that side (not kept itself: keep_previous_within_m is 0).
+    const LocalGoal previous{Pose2{-5.0, 4.5 * side, 0.0}, 5.0, false};
+    const auto goal = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config, previous);
+    ASSERT_TRUE(goal.has_value());
+    EXPECT_GT(goal->pose.y_m * side, 2.0) << side;
+  }
+  config.previous_goal_penalty = -0.1;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ovpc::planner

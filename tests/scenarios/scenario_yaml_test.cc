@@ -229,3 +229,53 @@ TEST(ScenarioValidationTest, ValuesThatWouldRunForeverOrOffTheWorldAreRefused) {
 
 }  // namespace
 }  // namespace ovpc::scenarios
+
+namespace ovpc::scenarios {
+namespace {
+
+TEST(ScenarioYamlTest, APostFieldIsPostsOnAJitteredGridTheSameEveryTime) {
+  const std::string yaml =
+      "name: field\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [60, 40]}\nroute: [[0, 0], [5, 0]]\n"
+      "objects:\n  - post_field: {x_m: [6, 30], y_m: [-9, 9], spacing_m: 3, jitter: JITTER, radius_m: 0.1, seed: SEED}\n";
+  const auto load = [&](const char* jitter, const char* seed) {
+    std::string s = yaml;
+    s.replace(s.find("JITTER"), 6, jitter);
+    s.replace(s.find("SEED"), 4, seed);
+    return ParseScenario(s, "field.yaml").sim.world.cylinders;
+  };
+  const auto rows = load("0", "1");
+  ASSERT_EQ(rows.size(), 9u * 7u);  // x 6, 9, ..., 30; y -9, -6, ..., 9
+  EXPECT_DOUBLE_EQ(rows.front().x_m, 6.0);
+  EXPECT_DOUBLE_EQ(rows.back().y_m, 9.0);
+  const auto a = load("0.8", "1"), b = load("0.8", "1"), c = load("0.8", "2");
+  ASSERT_EQ(a.size(), rows.size());
+  bool same = true, differs = false;
+  double closest = 1e9;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    same = same && a[i].x_m == b[i].x_m && a[i].y_m == b[i].y_m;
+    differs = differs || a[i].x_m != c[i].x_m;
+    EXPECT_LE(std::abs(a[i].x_m - rows[i].x_m), 0.4 * 3.0 + 1e-12);
+    for (std::size_t j = 0; j < i; ++j) closest = std::min(closest, std::hypot(a[i].x_m - a[j].x_m, a[i].y_m - a[j].y_m));
+  }
+  EXPECT_TRUE(same);
+  EXPECT_TRUE(differs);
+  EXPECT_GE(closest, 3.0 * (1.0 - 0.8) - 1e-9);
+  // Posts that would overlap, a jitter out of range and a field of millions of posts are refused.
+  for (const auto& [jitter, spacing] : std::vector<std::pair<std::string, std::string>>{
+           {"0.95", "3"}, {"1.5", "3"}, {"0", "0.1"}}) {
+    std::string s = yaml;
+    s.replace(s.find("JITTER"), 6, jitter);
+    s.replace(s.find("SEED"), 4, "1");
+    s.replace(s.find("spacing_m: 3"), 12, "spacing_m: " + spacing);
+    if (spacing == "0.1") s.replace(s.find("radius_m: 0.1"), 13, "radius_m: 0.01");
+    try {
+      ParseScenario(s, "field.yaml");
+      ADD_FAILURE() << jitter << " " << spacing;
+    } catch (const ScenarioError& e) {
+      EXPECT_NE(std::string(e.what()).find("field.yaml:6"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios

@@ -36,6 +36,12 @@ struct LocalGoalSelection {
     /// can plan over; far from the sensor the ground is sparse, and a goal reached over it is often
     /// one no path leads to. Infinite: any distance (the nearest point decides).
     double reach_support_m = std::numeric_limits<double>::infinity();
+    /// kReachable: candidates also score this many metres per metre away from the previous goal, so
+    /// that of two ways round an obstacle about as good (a roof across the route, both sides unseen)
+    /// the one already taken is kept: goals that alternate between the two sides, each a few metres
+    /// ahead, make paths that undo each other. 0: no preference (the previous goal is still kept by
+    /// keep_previous_within_m).
+    double previous_goal_penalty = 0.0;
     /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
     double min_distance_m = 4.0;
     /// kRoute: route points this close (along the route) to its last waypoint count as its end: they
