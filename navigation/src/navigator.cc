@@ -214,6 +214,12 @@ void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
   if (blocked) {
     const planner::PathPose at = path_O_.Poses()[blocked_index];
     in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - T_O_B.translation().head<2>()).norm();
+    if (config_.replan.unseen_block_near_m > 0.0) {
+      const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
+      const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, at_L);
+      in.blocked_by_unseen_ground =
+          why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
+    }
   }
   in.distance_to_goal_m = goal_O_ ? (T_O_B.translation().head<2>() - *goal_O_).norm() : 0.0;
   in.goal_is_route_end = goal_is_route_end_;

@@ -113,9 +113,10 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   // Cells: known traversable, known non-traversable (blocked) or unknown, from the ground projection
   // of the cell's centre; blocked cells grow by half the vehicle's width. Known ground with a map
   // point over it in the vehicle's height band (above the ground clearance, below the mast's top) is
-  // blocked too: the vehicle cannot be there, so neither the reach nor the cost to go passes under a
-  // roof too low for it.
-  enum : std::uint8_t { kUnknown, kFree, kBlocked };
+  // overhead-blocked: the vehicle cannot be there, so neither the reach nor the cost to go passes
+  // under a roof too low for it. These cells do not grow: a single stray return over the ground
+  // (an outlier the buffer kept) then costs a detour of one cell, not a vehicle's width.
+  enum : std::uint8_t { kUnknown, kFree, kBlocked, kOverhead };
   VehicleBox column = vehicle;
   column.length_m = column.width_m = cell;
   column.centre_ahead_m = 0.0;
@@ -132,7 +133,7 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
       // in the cell: a single steep vertex among sparse ground claims no cells around it.
       if (g->traversable) {
         if ((g->surface_point.head<2>() - c).norm() <= config.reach_support_m) {
-          state[index(ix, iy)] = map.CheckBox(*g, column) == PoseCheck::kCollision ? kBlocked : kFree;
+          state[index(ix, iy)] = map.CheckBox(*g, column) == PoseCheck::kCollision ? kOverhead : kFree;
         }
       } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell) {
         state[index(ix, iy)] = kBlocked;
@@ -191,13 +192,13 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   std::vector<double> to_go(state.size(), inf);
   for (std::size_t i = end; i-- > closest;) {
     int ix, iy;
-    if (!cell_of(route[i].position, &ix, &iy) || state[index(ix, iy)] == kBlocked) continue;
+    if (!cell_of(route[i].position, &ix, &iy) || state[index(ix, iy)] == kBlocked || state[index(ix, iy)] == kOverhead) continue;
     to_go[index(ix, iy)] = route_length - route[i].progress_m;
     break;
   }
   // The cost to go goes round known non-traversable cells themselves (optimistic, like unknown
   // ground); the vehicle's reach keeps half its width from them.
-  dijkstra(&to_go, [&](std::size_t j) { return state[j] != kBlocked; });
+  dijkstra(&to_go, [&](std::size_t j) { return state[j] != kBlocked && state[j] != kOverhead; });
   // Reach: from the vehicle over known-traversable cells outside the grown blocked ones; the cells
   // within a vehicle's width of the vehicle are passable whatever they are (it stands there).
   const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
@@ -208,7 +209,7 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   dijkstra(&reach, [&](std::size_t j) {
     if (state[j] == kFree && !blocked[j]) return true;
     const Eigen::Vector2d c = centre(static_cast<int>(j % nx), static_cast<int>(j / nx));
-    return state[j] != kBlocked && (c - here).norm() <= vehicle.width_m;
+    return state[j] != kBlocked && state[j] != kOverhead && (c - here).norm() <= vehicle.width_m;
   });
 
   // Candidates: reached cells by cost to go, each with the heading down the cost-to-go field.

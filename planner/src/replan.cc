@@ -29,6 +29,10 @@ void Replanning::Config::Validate() const {
     throw std::invalid_argument("Replanning::Config: blocked_confirmations must be >= 1, got " +
                                 std::to_string(blocked_confirmations));
   }
+  if (!(unseen_block_near_m >= 0.0) || !std::isfinite(unseen_block_near_m)) {
+    throw std::invalid_argument("Replanning::Config: unseen_block_near_m must be >= 0, got " +
+                                std::to_string(unseen_block_near_m));
+  }
   if (!(blocked_near_m >= 0.0) || !std::isfinite(blocked_near_m)) {
     throw std::invalid_argument("Replanning::Config: blocked_near_m must be >= 0, got " + std::to_string(blocked_near_m));
   }
@@ -36,7 +40,9 @@ void Replanning::Config::Validate() const {
 
 ReplanReason CheckReplan(const Replanning::Config& config, const ReplanInputs& inputs) {
   if (!inputs.has_path || !inputs.last_plan_s) return ReplanReason::kNoPath;
-  if (inputs.path_blocked &&
+  const bool far_unseen = config.unseen_block_near_m > 0.0 && inputs.blocked_by_unseen_ground &&
+                          inputs.blocked_distance_m >= config.unseen_block_near_m;
+  if (inputs.path_blocked && !far_unseen &&
       (std::max(1, inputs.blocked_updates) >= config.blocked_confirmations ||
        inputs.blocked_distance_m < config.blocked_near_m)) {
     return ReplanReason::kPathBlocked;

@@ -90,7 +90,12 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
                    time, scenario.time_limit_s, nav.route_progress_m(), result.route_length_m, nav.stats().replans_found);
       std::fflush(stderr);
     }
-    // The run ends when the goal region is reached (by the true pose).
+    // The run ends when the goal region is reached (by the true pose), or when the vehicle has left
+    // the terrain (beyond its edge there is nothing to drive on: it falls).
+    if (referee.OffTerrain()) {
+      result.end_reason = "off the terrain";
+      break;
+    }
     if (referee.GoalReached(time, T_W_B)) {
       result.end_reason = "goal reached";
       break;

@@ -1,5 +1,7 @@
 #include "ovpc/planner/replan.h"
 
+#include <stdexcept>
+
 #include <gtest/gtest.h>
 
 namespace ovpc::planner {
@@ -71,6 +73,30 @@ TEST(ReplanTest, AFarBlockMustPersistANearOneActsAtOnce) {
   // The paper's rule (the default): the first update that finds the path blocked.
   far.now_s = 10.1;
   EXPECT_EQ(CheckReplan(Replanning::Config{}, far), ReplanReason::kPathBlocked);
+}
+
+TEST(ReplanTest, AFarBlockByUnseenGroundWaitsUntilItIsNear) {
+  Replanning::Config config;
+  config.unseen_block_near_m = 3.0;
+  ReplanInputs in = Standing(10.2);
+  in.path_blocked = true;
+  in.blocked_updates = 4;
+  in.blocked_distance_m = 6.0;
+  in.blocked_by_unseen_ground = true;
+  EXPECT_EQ(CheckReplan(config, in), ReplanReason::kNone);  // drive on: the ground fills in
+  in.blocked_distance_m = 2.9;
+  EXPECT_EQ(CheckReplan(config, in), ReplanReason::kPathBlocked);
+  // An obstacle acts at any distance; so does unseen ground under the paper's rule.
+  in.blocked_distance_m = 6.0;
+  in.blocked_by_unseen_ground = false;
+  EXPECT_EQ(CheckReplan(config, in), ReplanReason::kPathBlocked);
+  in.blocked_by_unseen_ground = true;
+  EXPECT_EQ(CheckReplan(Replanning::Config{}, in), ReplanReason::kPathBlocked);
+  // The period still elapses.
+  in.now_s = 11.5;
+  EXPECT_EQ(CheckReplan(config, in), ReplanReason::kPeriodElapsed);
+  config.unseen_block_near_m = -1.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
 }
 
 TEST(ReplanTest, ConfigIsValidated) {

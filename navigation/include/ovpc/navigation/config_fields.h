@@ -138,6 +138,7 @@ void VisitFields(V& v, planner::Replanning::Config& c) {
   v.Field("goal_too_close_m", c.goal_too_close_m);
   v.Field("blocked_confirmations", c.blocked_confirmations);
   v.Field("blocked_near_m", c.blocked_near_m);
+  v.Field("unseen_block_near_m", c.unseen_block_near_m);
 }
 
 template <class V>

@@ -26,6 +26,13 @@ struct Replanning {
     /// of collision; waiting for a second update filters that without delaying near blocks.
     int blocked_confirmations = 1;
     double blocked_near_m = 0.0;
+    /// A path blocked only by ground not yet seen well enough to stand a wheel on (the first blocked
+    /// pose fails as kGroundUnderFootprint or kOutsideMap, not as an obstacle) triggers a re-plan only
+    /// once that pose is nearer than this: far ahead the ground is sparse and fills in as the vehicle
+    /// comes closer, and a new path at every map update, each starting another way, rocks the vehicle
+    /// on the spot. Up to the block the path is still valid. 0: every block triggers (the paper's
+    /// rule).
+    double unseen_block_near_m = 0.0;
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
@@ -38,6 +45,7 @@ struct ReplanInputs {
   bool path_blocked = false;           ///< e.g. LocalPlanner::FirstInvalidPose found a pose
   int blocked_updates = 0;             ///< map updates in a row, this one included, that found it blocked
   double blocked_distance_m = 0.0;     ///< vehicle to the first blocked pose
+  bool blocked_by_unseen_ground = false;  ///< that pose fails for want of seen ground, not an obstacle
   double distance_to_goal_m = 0.0;     ///< vehicle to the current local goal
   bool goal_is_route_end = false;      ///< the local goal is the end of the route
 };

@@ -1,0 +1,48 @@
+// The referee on made-up poses: the terrain's edge, forbidden regions.
+#include "ovpc/scenarios/referee.h"
+
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
+namespace ovpc::scenarios {
+namespace {
+
+Eigen::Isometry3d At(double x, double y, double yaw) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Vec3(x, y, 0.0);
+  T.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
+  return T;
+}
+
+bool CriterionPassed(const RunResult& r, const std::string& name) {
+  const auto it = std::find_if(r.criteria.begin(), r.criteria.end(), [&](const CriterionResult& c) { return c.name == name; });
+  EXPECT_NE(it, r.criteria.end()) << name;
+  return it != r.criteria.end() && it->passed;
+}
+
+TEST(RefereeTest, AVehicleOverTheTerrainsEdgeHasLeftItAndFails) {
+  Scenario s;
+  s.sim.world.terrain.size_x_m = 20.0;  // x and y within +-10 m
+  s.sim.world.terrain.size_y_m = 20.0;
+  s.route_m = {{0.0, 0.0}, {8.0, 0.0}};
+  const sim::GatorParams gator;
+  Referee referee(s, gator, At(0.0, 0.0, 0.0));
+  referee.Observe(1.0, At(7.0, 0.0, 0.0), {});  // the front bumper at 7 + 2.35 m: on the terrain
+  EXPECT_FALSE(referee.OffTerrain());
+  RunResult on;
+  referee.Score(&on);
+  EXPECT_TRUE(CriterionPassed(on, "on_terrain"));
+  // Reversing over the edge at the side: the rear corner leaves first.
+  referee.Observe(2.0, At(7.0, 9.5, -kPi / 2 - 0.3), {});
+  EXPECT_TRUE(referee.OffTerrain());
+  referee.Observe(3.0, At(0.0, 0.0, 0.0), {});  // once off, off: the vehicle fell
+  EXPECT_TRUE(referee.OffTerrain());
+  RunResult off;
+  referee.Score(&off);
+  EXPECT_FALSE(CriterionPassed(off, "on_terrain"));
+  EXPECT_FALSE(off.passed);
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
