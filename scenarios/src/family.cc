@@ -118,14 +118,15 @@ ExpectRule ReadRule(const YAML::Node& node, const std::string& ctx, const std::s
   }
   rule.then = ReadThen(r, node);
   r.Get("reason", &rule.reason);
+  const YAML::Node list = r.Child("forbidden");
+  r.Finish();
   if (rule.then == Expectation::kAny && rule.reason.empty()) r.Fail(node, "'" + ctx + "': 'then: any' needs a 'reason'");
-  if (const YAML::Node list = r.Child("forbidden")) {
+  if (list) {
     if (rule.then != Expectation::kRefuse) r.Fail(list, "'" + r.Key("forbidden") + "' is for 'then: refuse' rules only");
     if (!list.IsSequence() || list.size() == 0) r.Fail(list, "'" + r.Key("forbidden") + "' must be a list of {name, min_m, max_m}");
     CheckScalars(list, defined, file);
     rule.forbidden = list.size();
   }
-  r.Finish();
   return rule;
 }
 
@@ -133,8 +134,10 @@ void ReadRules(const YAML::Node& root, const std::set<std::string>& defined, con
   const YAML::Node list = root["expect"];
   if (!list) Fail(file, root, "a family needs 'expect:', a list of rules like {when: \"roof_m >= 2.4\", then: pass}");
   if (!list.IsSequence() || list.size() == 0) Fail(file, list, "'expect' must be a list of rules {when, then, reason}");
+  // (A missing node's type cannot be asked: test that it is there first.)
   const YAML::Node criteria = root["criteria"];
-  const bool body_forbidden = criteria.IsMap() && criteria["forbidden"].IsSequence() && criteria["forbidden"].size() > 0;
+  const YAML::Node regions = criteria && criteria.IsMap() ? criteria["forbidden"] : YAML::Node();
+  const bool body_forbidden = regions && regions.IsSequence() && regions.size() > 0;
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string ctx = "expect[" + std::to_string(i) + "]";
     f->rules.push_back(ReadRule(list[i], ctx, defined, file));
@@ -206,9 +209,10 @@ Family ParseFamily(const std::string& yaml_text, const std::string& file) {
   }
   const YAML::Node& root = loaded;  // const lookups never add keys
   if (!root.IsMap() || !root["parameters"]) throw ScenarioError(file + ": a family is a scenario file with 'parameters:' and 'expect:'");
-  if (const YAML::Node n = root["navigator"]) {
-    Fail(file, n, "a family must not have a 'navigator:' section: the robot's settings are not part of the world "
-                  "(give them with --preset or --set)");
+  for (const auto& kv : root) {
+    if (!kv.first.IsScalar() || kv.first.Scalar() != "navigator") continue;
+    Fail(file, kv.first, "a family must not have a 'navigator:' section: the robot's settings are not part of the world "
+                         "(give them with --preset or --set)");
   }
   Family f;
   f.path = file;

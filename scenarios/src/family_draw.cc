@@ -150,8 +150,8 @@ std::string Header(const Family& f, const Draw& d, std::uint64_t seed, const std
        ", line " + std::to_string(rule.line) + (rule.when ? ": " + rule.when->text() : std::string()) + ")";
   if (d.expectation == Expectation::kPass) h += ": every criterion must be met.\n";
   if (d.expectation == Expectation::kRefuse) {
-    h += ": the goal is not required; the run must never collide and never enter a forbidden\n"
-         "# region (ovpc run may report the goal's criteria failed while the expectation holds).\n";
+    h += ":\n# the goal is not required; the run must never collide and never enter a forbidden region\n"
+         "# (ovpc run may report the goal's criteria failed while the expectation holds).\n";
   }
   if (d.expectation == Expectation::kAny) h += ": not judged, " + d.reason + ".\n";
   return h;

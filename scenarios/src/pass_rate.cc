@@ -105,7 +105,8 @@ PassRateTable TabulatePassRate(const Parameter& p, const std::vector<JudgedRun>&
     const Value* x = ValueOf(run, p.name);
     if (!x || !x->is_number) continue;
     const double width = (hi - lo) / t.rows.size();
-    const auto b = width > 0 ? static_cast<std::size_t>(std::floor((x->number - lo) / width)) : 0;
+    // A value on an edge (2.3 of [1.5, 3.5]) goes to the bin above, whatever the rounding of the division.
+    const auto b = width > 0 ? static_cast<std::size_t>(std::max(0.0, std::floor((x->number - lo) / width + 1e-9))) : 0;
     Count(run, &t.rows[std::min(b, t.rows.size() - 1)]);
   }
   return t;
