@@ -68,7 +68,9 @@ void CheckScalar(const YAML::Node& n, const std::set<std::string>& defined, cons
   }
 }
 
+// A rule's regions: `$name` and `${expr}` of the parameters, no distributions of their own.
 void CheckScalars(const YAML::Node& n, const std::set<std::string>& defined, const std::string& file) {
+  if (internal::IsDistributionMap(n)) Fail(file, n, "a distribution in an expect rule: give it a name under 'parameters:' and use $name");
   if (n.IsScalar()) CheckScalar(n, defined, file);
   if (n.IsSequence()) for (const YAML::Node& item : n) CheckScalars(item, defined, file);
   if (n.IsMap()) for (const auto& kv : n) CheckScalars(kv.second, defined, file);

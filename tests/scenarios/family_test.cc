@@ -214,7 +214,9 @@ TEST_F(FamilyTest, AWrittenDrawReloadsWithTheDrawnValues) {
     EXPECT_EQ(d.expectation, want) << roof;
     EXPECT_EQ(d.rule, roof >= 2.4 ? 0u : roof < 2.2 ? (side == "left" ? 1u : 2u) : 3u);
     ASSERT_EQ(s.criteria.forbidden.size(), want == Expectation::kRefuse ? 1u : 0u);
-    if (d.rule == 2) EXPECT_EQ(s.criteria.forbidden[0].min_m.y(), -roof);
+    if (d.rule == 2) {
+      EXPECT_EQ(s.criteria.forbidden[0].min_m.y(), -roof);
+    }
   }
   std::ifstream csv(dir_ / "roofs" / "draws.csv");
   std::string header;
@@ -233,7 +235,9 @@ TEST_F(FamilyTest, TheCarportExampleDrawsItsThreeExpectations) {
     seen.insert(d.expectation);
     EXPECT_EQ(d.expectation, roof >= 2.4 ? Expectation::kPass : roof < 2.2 ? Expectation::kRefuse : Expectation::kAny);
     EXPECT_EQ(d.yaml.find("under_the_roof") != std::string::npos, d.expectation == Expectation::kRefuse) << d.yaml;
-    if (d.expectation == Expectation::kAny) EXPECT_EQ(d.reason, "the mast (2.2 m) fits with little margin");
+    if (d.expectation == Expectation::kAny) {
+      EXPECT_EQ(d.reason, "the mast (2.2 m) fits with little margin");
+    }
   }
   EXPECT_EQ(seen.size(), 3u);
 }
@@ -290,6 +294,8 @@ TEST_F(FamilyTest, MalformedFamiliesNameFileLineAndProblem) {
   EXPECT_TRUE(starts(e, "fam.yaml:16: 'expect[1]': a refuse rule needs forbidden regions")) << e;
   e = ErrorOf(Replaced(kFamily, "route:", "navigator:\n  local_goal: {mode: reachable}\nroute:"));
   EXPECT_TRUE(starts(e, "fam.yaml:11: a family must not have a 'navigator:' section")) << e;
+  e = ErrorOf(Replaced(kFamily, "max_m: [12, 2]}]\n", "max_m: [12, {uniform: [1, 2]}]}]\n"));
+  EXPECT_TRUE(starts(e, "fam.yaml:18: a distribution in an expect rule")) << e;
   e = ErrorOf(Replaced(kFamily, "then: pass}", "then: succeed}"));
   EXPECT_TRUE(starts(e, "fam.yaml:15: 'expect[0].then' must be pass, refuse or any, got 'succeed'")) << e;
   e = ErrorOf(Replaced(kFamily, "reason: tight", "because: tight"));
