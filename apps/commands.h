@@ -27,5 +27,6 @@ Runner RegisterMesh(CLI::App& app);
 Runner RegisterSynth(CLI::App& app);
 Runner RegisterRun(CLI::App& app);
 Runner RegisterSuite(CLI::App& app);
+Runner RegisterFamily(CLI::App& app);
 
 }  // namespace ovpc::apps

@@ -1,4 +1,6 @@
-// `ovpc suite`: many scenario runs in parallel processes, a summary table, JUnit XML and JSON.
+// `ovpc suite`: many scenario runs in parallel processes, a summary table, JUnit XML and JSON. Scenario
+// families among the inputs are drawn into plain scenario files first, and their runs judged against
+// their expectation.
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,7 +22,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "ovpc/scenarios/family.h"
 #include "ovpc/scenarios/scenario_yaml.h"
+#include "suite.h"
 
 extern char** environ;
 
@@ -28,38 +32,22 @@ namespace ovpc::apps {
 namespace {
 
 namespace fs = std::filesystem;
+using suite::DrawRun;
+using suite::FamilyInput;
+using suite::Job;
 
-struct Job {
-  std::string file;
-  std::string scenario;
-  std::uint64_t seed = 1;
-  std::vector<std::string> settings;  // key=value
-  std::string out_dir;
-  pid_t pid = 0;
-  int exit_code = -1;
-  nlohmann::json result = nlohmann::json::object();
-  std::string error;  // why there is no result: a malformed file, a killed or crashed run, ...
+struct Options {
+  std::vector<std::string> inputs;
+  int jobs = 2;
+  int seeds = 1;
+  int first_seed = 1;
+  std::vector<std::string> sweeps;
+  std::vector<std::string> skip_labels;
+  std::string preset;
+  std::string out = "out/suite";
+  std::size_t samples = 6;
+  std::uint64_t family_seed = 1;
 };
-
-std::string SettingsLabel(const std::vector<std::string>& settings) {
-  std::string s;
-  for (const auto& kv : settings) s += (s.empty() ? "" : " ") + kv;
-  return s;
-}
-
-std::string XmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 // Cartesian product of the sweeps: each entry of the result is one list of key=value settings.
 std::vector<std::vector<std::string>> SweepCombinations(const std::vector<std::string>& sweeps) {
@@ -102,28 +90,254 @@ pid_t Spawn(const std::vector<std::string>& args, const std::string& log_path) {
   return pid;
 }
 
+std::vector<std::string> CollectFiles(const std::vector<std::string>& inputs) {
+  std::vector<std::string> files;
+  for (const std::string& in : inputs) {
+    if (fs::is_directory(in)) {
+      std::vector<std::string> found;
+      for (const auto& e : fs::directory_iterator(in)) {
+        if (e.path().extension() == ".yaml") found.push_back(e.path().string());
+      }
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::is_regular_file(in)) {
+      files.push_back(in);
+    } else {
+      throw BadInput(in + ": no such scenario file or folder");
+    }
+  }
+  return files;
+}
+
+// Turns the input files into jobs: each scenario file and each draw of a family, per sweep
+// combination and seed, with a run folder of its own.
+class Planner {
+ public:
+  Planner(const Options& o, std::vector<std::vector<std::string>> combos, scenarios::Preset preset)
+      : o_(o), combos_(std::move(combos)), preset_(std::move(preset)) {}
+
+  void AddFile(const std::string& file) {
+    if (scenarios::IsFamilyFile(file)) return AddFamily(file);
+    scenarios::Scenario s;
+    try {
+      s = scenarios::LoadScenario(file, combos_.front(), preset_);
+    } catch (const scenarios::ScenarioError& e) {
+      return AddMalformed(file, e.what());
+    }
+    if (Skipped(s)) return;
+    for (const auto& combo : combos_) {
+      std::string tag = s.name + Tag(combo, "__");
+      // Two files with one scenario name get folders of their own.
+      const std::string suffix = tag.substr(s.name.size());
+      for (int k = 2; tag_files_.count(tag) && tag_files_[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + suffix;
+      tag_files_[tag] = file;
+      AddSeeds(file, s.name, combo, fs::path(o_.out) / tag, std::nullopt);
+    }
+  }
+
+  std::vector<Job> jobs;
+  std::vector<FamilyInput> families;
+  bool malformed = false;
+
+ private:
+  static std::string Tag(const std::vector<std::string>& combo, const std::string& first) {
+    std::string tag;
+    for (const auto& kv : combo) tag += (tag.empty() ? first : "__") + kv;
+    std::replace(tag.begin(), tag.end(), '/', '_');
+    return tag;
+  }
+  bool Skipped(const scenarios::Scenario& s) const {
+    bool skip = false;
+    for (const auto& l : o_.skip_labels) skip = skip || std::count(s.labels.begin(), s.labels.end(), l) > 0;
+    return skip;
+  }
+  // Reported as an error of this file; the other files still run.
+  void AddMalformed(const std::string& file, const std::string& error) {
+    std::fprintf(stderr, "ovpc suite: %s\n", error.c_str());
+    Job job;
+    job.file = file;
+    job.scenario = fs::path(file).stem().string();
+    job.exit_code = kExitBadInput;
+    job.error = error;
+    jobs.push_back(job);
+    malformed = true;
+  }
+  void AddSeeds(const std::string& file, const std::string& name, const std::vector<std::string>& combo, const fs::path& dir,
+                const std::optional<DrawRun>& draw) {
+    for (int seed = o_.first_seed; seed < o_.first_seed + o_.seeds; ++seed) {
+      Job job;
+      job.file = file;
+      job.scenario = name;
+      job.seed = static_cast<std::uint64_t>(seed);
+      job.settings = combo;
+      job.out_dir = (dir / ("seed_" + std::to_string(seed))).string();
+      job.draw = draw;
+      jobs.push_back(job);
+    }
+  }
+  void AddFamily(const std::string& file);
+
+  const Options& o_;
+  std::vector<std::vector<std::string>> combos_;
+  scenarios::Preset preset_;
+  std::map<std::string, std::string> tag_files_;  // run folder name -> the file that has it
+};
+
+// A family: drawn into OUT/<family>/draw_<iii>/scenario.yaml (a fresh folder), each draw then run like
+// a scenario file into draw_<iii>[/<settings>]/seed_<k>.
+void Planner::AddFamily(const std::string& file) {
+  FamilyInput in;
+  try {
+    in.family = scenarios::LoadFamily(file);
+    in.draws = scenarios::DrawFamily(in.family, {o_.samples, o_.family_seed}, preset_);
+  } catch (const scenarios::ScenarioError& e) {
+    return AddMalformed(file, e.what());
+  }
+  std::string folder = in.family.name;
+  std::replace(folder.begin(), folder.end(), '/', '_');
+  for (int k = 2; tag_files_.count(folder) && tag_files_[folder] != file; ++k) folder = in.family.name + "_" + std::to_string(k);
+  tag_files_[folder] = file;
+  in.dir = (fs::path(o_.out) / folder).string();
+  std::error_code ec;
+  fs::remove_all(in.dir, ec);
+  in.files = scenarios::WriteDraws(in.family, in.draws, in.dir);
+  const std::size_t first_job = jobs.size();
+  for (std::size_t i = 0; i < in.draws.size(); ++i) {
+    scenarios::Scenario s;
+    try {
+      s = scenarios::LoadScenario(in.files[i], combos_.front(), preset_);
+    } catch (const scenarios::ScenarioError& e) {  // e.g. a --sweep key the scenario does not have
+      jobs.resize(first_job);
+      return AddMalformed(in.files[i], e.what());
+    }
+    if (Skipped(s)) continue;
+    const fs::path draw_dir = fs::path(in.files[i]).parent_path();
+    for (const auto& combo : combos_) {
+      AddSeeds(in.files[i], s.name, combo, draw_dir / Tag(combo, ""), DrawRun{families.size(), i});
+    }
+  }
+  families.push_back(std::move(in));
+}
+
+scenarios::RunOutcome OutcomeFromJson(const nlohmann::json& r) {
+  std::vector<scenarios::CriterionResult> criteria;
+  if (r.contains("criteria")) {
+    for (const auto& c : r["criteria"]) {
+      criteria.push_back({c.value("name", std::string()), c.value("expected", std::string()), c.value("actual", std::string()),
+                          c.value("passed", false)});
+    }
+  }
+  return scenarios::OutcomeOf(r.value("passed", false), r.value("collision_steps", std::size_t{0}), criteria);
+}
+
+// A family run: judged against its expectation, which result.json's `extra` records.
+void JudgeDraw(Job& job, const std::vector<FamilyInput>& families) {
+  const scenarios::Draw& d = families[job.draw->family].draws[job.draw->draw];
+  job.draw->verdict = !job.error.empty() ? scenarios::Verdict::kError : scenarios::Judge(d.expectation, OutcomeFromJson(job.result));
+  if (!job.error.empty()) return;
+  job.result["extra"] = suite::DrawJson(families, *job.draw);
+  const fs::path dir(job.out_dir);
+  std::ofstream(dir / "result.json.part") << job.result.dump(2) << "\n";
+  std::error_code ec;
+  fs::rename(dir / "result.json.part", dir / "result.json", ec);
+}
+
+// A run that ended: its result, or why there is none.
+void Finish(Job& job, int status, const std::vector<FamilyInput>& families) {
+  job.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  // `ovpc run` writes result.json last, by renaming a complete file: no file, no result.
+  std::ifstream in(fs::path(job.out_dir) / "result.json");
+  if (in) {
+    try {
+      in >> job.result;
+    } catch (const std::exception&) {
+      job.result = nlohmann::json::object();
+    }
+  }
+  if (!job.result.is_object()) job.result = nlohmann::json::object();
+  const std::string log = " (see " + (fs::path(job.out_dir) / "run.log").string() + ")";
+  if (WIFSIGNALED(status)) {
+    job.error = "killed by signal " + std::to_string(WTERMSIG(status)) + log;
+  } else if (job.exit_code != 0 && job.exit_code != 1) {
+    job.error = "exit code " + std::to_string(job.exit_code) + log;
+  } else if (job.result.empty()) {
+    job.error = "no result.json (exit code " + std::to_string(job.exit_code) + ")" + log;
+  }
+  if (!job.error.empty()) job.result = nlohmann::json::object();
+  if (job.draw) JudgeDraw(job, families);
+}
+
+void Start(Job& job, const Options& o, const std::string& self) {
+  // A fresh folder: a result left by an earlier suite is never taken for this run's.
+  std::error_code ec;
+  fs::remove_all(job.out_dir, ec);
+  fs::create_directories(job.out_dir);
+  std::vector<std::string> args = {self, "run", job.file, "--seed", std::to_string(job.seed), "--out", job.out_dir, "-q"};
+  if (!o.preset.empty()) {
+    args.push_back("--preset");
+    args.push_back(o.preset);
+  }
+  for (const auto& kv : job.settings) {
+    args.push_back("--set");
+    args.push_back(kv);
+  }
+  job.pid = Spawn(args, (fs::path(job.out_dir) / "run.log").string());
+}
+
+void RunAll(std::vector<Job>& jobs, const Options& o, const std::vector<FamilyInput>& families) {
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  std::size_t next = 0, done = 0, passed = 0, running = 0;
+  const auto not_run = [](const Job& job) { return !job.error.empty() && job.pid == 0; };
+  std::map<pid_t, std::size_t> by_pid;
+  auto progress = [&]() {
+    std::fprintf(stderr, "\r[%zu/%zu] done, %zu running, %zu passed, %zu failed   ", done, jobs.size(), running, passed,
+                 done - passed);
+    std::fflush(stderr);
+  };
+  while (done < jobs.size()) {
+    while (running < static_cast<std::size_t>(o.jobs) && next < jobs.size()) {
+      Job& job = jobs[next];
+      if (not_run(job)) {  // a malformed file: nothing to run
+        ++next;
+        ++done;
+        continue;
+      }
+      Start(job, o, self);
+      by_pid[job.pid] = next++;
+      ++running;
+      progress();
+    }
+    if (running == 0) break;  // every remaining job was a malformed file
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) break;
+    auto it = by_pid.find(pid);
+    if (it == by_pid.end()) continue;
+    Job& job = jobs[it->second];
+    Finish(job, status, families);
+    passed += suite::Passed(job);
+    ++done;
+    --running;
+    progress();
+  }
+  std::fprintf(stderr, "\n");
+}
+
 }  // namespace
 
 Runner RegisterSuite(CLI::App& app) {
-  struct Options {
-    std::vector<std::string> inputs;
-    int jobs = 2;
-    int seeds = 1;
-    int first_seed = 1;
-    std::vector<std::string> sweeps;
-    std::vector<std::string> skip_labels;
-    std::string preset;
-    std::string out = "out/suite";
-  };
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("suite", "Run many scenarios (and seeds, and parameter sweeps) in parallel processes");
+  CLI::App* cmd = app.add_subcommand("suite", "Run many scenarios (and seeds, parameter sweeps, scenario families) in parallel processes");
   cmd->footer(
       "Each run is `ovpc run` in its own process, writing to OUT/<scenario>[__<settings>]/seed_<k>. Prints a\n"
       "summary table, and writes OUT/junit.xml and OUT/summary.json. A malformed scenario file, a run killed or\n"
       "crashed, or one that left no result.json is an error of that run (JUnit <error>); the others run and are\n"
-      "reported. Exit codes: 0 every run passed, 1 some run failed or had an error, 2 bad input (a malformed\n"
-      "scenario file among them).");
-  cmd->add_option("inputs", o->inputs, "Scenario folders (every *.yaml in them) or files")->required();
+      "reported. A scenario family (a file with `parameters:`) is drawn into OUT/<family>/draw_<iii>/scenario.yaml\n"
+      "(--samples draws per grid point, from --family-seed), each draw run like a scenario into\n"
+      "draw_<iii>/seed_<k>, judged against its expectation, and tabulated per parameter (OUT/<family>/pass_rate.csv,\n"
+      "pass_rate_<parameter>.svg). Exit codes: 0 every run passed (a family run: its expectation held), 1 some run\n"
+      "failed or had an error, 2 bad input (a malformed scenario or family file among them).");
+  cmd->add_option("inputs", o->inputs, "Scenario or family folders (every *.yaml in them) or files")->required();
   cmd->add_option("-j,--jobs", o->jobs, "Runs at the same time")->capture_default_str();
   cmd->add_option("--seeds", o->seeds, "K seeds for every scenario: F..F+K-1 (F = --first-seed)")->capture_default_str();
   cmd->add_option("--first-seed", o->first_seed, "First seed F (e.g. 4 with --seeds 3: seeds 4, 5, 6)")->capture_default_str();
@@ -131,25 +345,15 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--skip-label", o->skip_labels, "Leave out scenarios with this label (e.g. long)");
   cmd->add_option("--preset", o->preset, "The robot's configuration for every run (default: the built-in one)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
+  cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")
+      ->capture_default_str();
   return [o]() {
     if (o->jobs < 1) throw BadInput("--jobs must be >= 1");
     if (o->seeds < 1) throw BadInput("--seeds must be >= 1");
     if (o->first_seed < 0) throw BadInput("--first-seed must be >= 0");
-    std::vector<std::string> files;
-    for (const std::string& in : o->inputs) {
-      if (fs::is_directory(in)) {
-        std::vector<std::string> found;
-        for (const auto& e : fs::directory_iterator(in)) {
-          if (e.path().extension() == ".yaml") found.push_back(e.path().string());
-        }
-        std::sort(found.begin(), found.end());
-        files.insert(files.end(), found.begin(), found.end());
-      } else if (fs::is_regular_file(in)) {
-        files.push_back(in);
-      } else {
-        throw BadInput(in + ": no such scenario file or folder");
-      }
-    }
+    if (o->samples < 1) throw BadInput("--samples must be >= 1");
+    const std::vector<std::string> files = CollectFiles(o->inputs);
     const auto combos = SweepCombinations(o->sweeps);
     scenarios::Preset preset;
     try {
@@ -157,230 +361,13 @@ Runner RegisterSuite(CLI::App& app) {
     } catch (const scenarios::ScenarioError& e) {
       throw BadInput(e.what());
     }
-    std::vector<Job> jobs;
-    std::map<std::string, std::string> tag_files;  // run folder name -> the file that has it
-    bool malformed = false;
-    for (const std::string& file : files) {
-      scenarios::Scenario s;
-      try {
-        s = scenarios::LoadScenario(file, combos.front(), preset);
-      } catch (const scenarios::ScenarioError& e) {
-        // Reported as an error of this file; the other files still run.
-        std::fprintf(stderr, "ovpc suite: %s\n", e.what());
-        Job job;
-        job.file = file;
-        job.scenario = fs::path(file).stem().string();
-        job.exit_code = kExitBadInput;
-        job.error = e.what();
-        jobs.push_back(job);
-        malformed = true;
-        continue;
-      }
-      bool skip = false;
-      for (const auto& l : o->skip_labels) skip = skip || std::count(s.labels.begin(), s.labels.end(), l) > 0;
-      if (skip) continue;
-      for (const auto& combo : combos) {
-        std::string tag = s.name;
-        for (const auto& kv : combo) tag += "__" + kv;
-        std::replace(tag.begin(), tag.end(), '/', '_');
-        // Two files with one scenario name get folders of their own.
-        const std::string suffix = tag.substr(s.name.size());
-        for (int k = 2; tag_files.count(tag) && tag_files[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + suffix;
-        tag_files[tag] = file;
-        for (int seed = o->first_seed; seed < o->first_seed + o->seeds; ++seed) {
-          Job job;
-          job.file = file;
-          job.scenario = s.name;
-          job.seed = static_cast<std::uint64_t>(seed);
-          job.settings = combo;
-          job.out_dir = (fs::path(o->out) / tag / ("seed_" + std::to_string(seed))).string();
-          jobs.push_back(job);
-        }
-      }
-    }
-    if (jobs.empty()) throw BadInput("no scenario to run");
-
-    const std::string self = fs::read_symlink("/proc/self/exe").string();
-    std::size_t next = 0, done = 0, passed = 0, running = 0;
-    const auto not_run = [](const Job& job) { return !job.error.empty() && job.pid == 0; };
-    std::map<pid_t, std::size_t> by_pid;
-    auto progress = [&]() {
-      std::fprintf(stderr, "\r[%zu/%zu] done, %zu running, %zu passed, %zu failed   ", done, jobs.size(), running, passed,
-                   done - passed);
-      std::fflush(stderr);
-    };
-    while (done < jobs.size()) {
-      while (running < static_cast<std::size_t>(o->jobs) && next < jobs.size()) {
-        Job& job = jobs[next];
-        if (not_run(job)) {  // a malformed file: nothing to run
-          ++next;
-          ++done;
-          continue;
-        }
-        // A fresh folder: a result left by an earlier suite is never taken for this run's.
-        std::error_code ec;
-        fs::remove_all(job.out_dir, ec);
-        fs::create_directories(job.out_dir);
-        std::vector<std::string> args = {self, "run", job.file, "--seed", std::to_string(job.seed), "--out", job.out_dir, "-q"};
-        if (!o->preset.empty()) {
-          args.push_back("--preset");
-          args.push_back(o->preset);
-        }
-        for (const auto& kv : job.settings) {
-          args.push_back("--set");
-          args.push_back(kv);
-        }
-        job.pid = Spawn(args, (fs::path(job.out_dir) / "run.log").string());
-        by_pid[job.pid] = next++;
-        ++running;
-        progress();
-      }
-      if (running == 0) break;  // every remaining job was a malformed file
-      int status = 0;
-      const pid_t pid = waitpid(-1, &status, 0);
-      if (pid < 0) break;
-      auto it = by_pid.find(pid);
-      if (it == by_pid.end()) continue;
-      Job& job = jobs[it->second];
-      job.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-      // `ovpc run` writes result.json last, by renaming a complete file: no file, no result.
-      std::ifstream in(fs::path(job.out_dir) / "result.json");
-      if (in) {
-        try {
-          in >> job.result;
-        } catch (const std::exception&) {
-          job.result = nlohmann::json::object();
-        }
-      }
-      if (!job.result.is_object()) job.result = nlohmann::json::object();
-      const std::string log = " (see " + (fs::path(job.out_dir) / "run.log").string() + ")";
-      if (WIFSIGNALED(status)) {
-        job.error = "killed by signal " + std::to_string(WTERMSIG(status)) + log;
-      } else if (job.exit_code != 0 && job.exit_code != 1) {
-        job.error = "exit code " + std::to_string(job.exit_code) + log;
-      } else if (job.result.empty()) {
-        job.error = "no result.json (exit code " + std::to_string(job.exit_code) + ")" + log;
-      }
-      if (!job.error.empty()) job.result = nlohmann::json::object();
-      passed += job.exit_code == 0 && job.error.empty();
-      ++done;
-      --running;
-      progress();
-    }
-    std::fprintf(stderr, "\n");
-
-    // Summary table, JUnit XML and JSON.
-    std::printf("%-22s %-5s %-34s %-6s %9s %9s %7s  %s\n", "scenario", "seed", "settings", "result", "sim [s]", "dist [m]",
-                "RTF", "end");
-    nlohmann::json summary = nlohmann::json::array();
-    std::ostringstream cases;
-    double total_wall = 0.0;
-    std::size_t errors = 0;
-    for (const Job& job : jobs) {
-      const nlohmann::json& r = job.result;
-      const bool ok = job.exit_code == 0 && job.error.empty();
-      const double sim_s = r.value("sim_time_s", 0.0), dist = r.value("distance_m", 0.0), rtf = r.value("real_time_factor", 0.0);
-      const double wall = r.value("wall_time_s", 0.0);
-      total_wall += wall;
-      std::string end = job.error.empty() ? r.value("end_reason", std::string("exit code ") + std::to_string(job.exit_code))
-                                          : job.error;
-      // Why a failed run did not arrive: stalled, rocking or still driving (scenarios/diagnosis.h).
-      const std::string verdict = r.contains("diagnosis") ? r["diagnosis"].value("verdict", std::string()) : "";
-      if (!ok && !verdict.empty() && verdict != "arrived") end += " (" + verdict + ")";
-      std::printf("%-22s %-5llu %-34s %-6s %9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
-                  static_cast<unsigned long long>(job.seed), SettingsLabel(job.settings).c_str(),
-                  ok ? "pass" : job.error.empty() ? "FAIL" : "ERROR",
-                  sim_s, dist, rtf, end.c_str());
-      summary.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"settings", job.settings},
-                         {"passed", ok}, {"exit_code", job.exit_code}, {"out", job.out_dir}, {"result", r}});
-      if (!job.error.empty()) summary.back()["error"] = job.error;
-      cases << "    <testcase classname=\"" << XmlEscape(job.scenario) << "\" name=\""
-            << XmlEscape("seed=" + std::to_string(job.seed) + (job.settings.empty() ? "" : " " + SettingsLabel(job.settings)))
-            << "\" time=\"" << wall << "\">\n";
-      if (!job.error.empty()) {
-        ++errors;
-        cases << "      <error message=\"" << XmlEscape(job.error.substr(0, job.error.find('\n'))) << "\">"
-              << XmlEscape(job.error) << "</error>\n";
-      } else if (!ok) {
-        std::string failures;
-        if (r.contains("criteria")) {
-          for (const auto& c : r["criteria"]) {
-            if (!c.value("passed", false)) {
-              failures += c.value("name", std::string()) + ": expected " + c.value("expected", std::string()) + ", got " +
-                          c.value("actual", std::string()) + "\n";
-            }
-          }
-          if (r.contains("diagnosis")) failures += "diagnosis: " + r["diagnosis"].value("summary", std::string()) + "\n";
-        } else {
-          failures = "run failed with exit code " + std::to_string(job.exit_code) + " (see " + job.out_dir + "/run.log)\n";
-        }
-        cases << "      <failure message=\"" << XmlEscape(failures.substr(0, failures.find('\n'))) << "\">"
-              << XmlEscape(failures) << "</failure>\n";
-      }
-      cases << "    </testcase>\n";
-    }
-    // With several seeds: per scenario and settings, the pass rate, the failing seeds and the spread
-    // of the passing runs' times (a single run is one sample of a chaotic closed loop).
-    if (o->seeds > 1) {
-      std::printf("\n%-22s %-34s %7s %-18s %17s %9s\n", "scenario", "settings", "passed", "failed seeds",
-                  "passing sim [s]", "mean RTF");
-      std::vector<std::pair<std::string, std::vector<std::string>>> groups;
-      for (const Job& job : jobs) {
-        const std::pair<std::string, std::vector<std::string>> g{job.scenario, job.settings};
-        if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
-      }
-      for (const auto& g : groups) {
-        int n = 0, ok = 0;
-        double lo = 0.0, hi = 0.0, rtf = 0.0;
-        std::string failed;
-        for (const Job& job : jobs) {
-          if (job.scenario != g.first || job.settings != g.second) continue;
-          ++n;
-          rtf += job.result.value("real_time_factor", 0.0);
-          if (job.exit_code != 0 || !job.error.empty()) {
-            failed += (failed.empty() ? "" : ",") + std::to_string(job.seed);
-            continue;
-          }
-          const double t = job.result.value("sim_time_s", 0.0);
-          lo = ok == 0 ? t : std::min(lo, t);
-          hi = ok == 0 ? t : std::max(hi, t);
-          ++ok;
-        }
-        char range[40] = "-";
-        if (ok > 0) std::snprintf(range, sizeof(range), "%.1f-%.1f", lo, hi);
-        std::printf("%-22s %-34s %3d/%-3d %-18s %17s %9.1f\n", g.first.c_str(), SettingsLabel(g.second).c_str(), ok, n,
-                    failed.empty() ? "-" : failed.c_str(), range, rtf / n);
-      }
-    }
-    // Sweep table: pass rate and mean figures per combination of values.
-    if (!o->sweeps.empty()) {
-      std::printf("\nsweep: %-40s %6s %12s %12s\n", "settings", "passed", "mean sim [s]", "mean dist [m]");
-      for (const auto& combo : combos) {
-        int n = 0, ok = 0;
-        double sim_s = 0.0, dist = 0.0;
-        for (const Job& job : jobs) {
-          if (job.settings != combo) continue;
-          ++n;
-          ok += job.exit_code == 0 && job.error.empty();
-          sim_s += job.result.value("sim_time_s", 0.0);
-          dist += job.result.value("distance_m", 0.0);
-        }
-        if (n == 0) continue;
-        std::printf("       %-40s %3d/%-3d %12.1f %12.1f\n", SettingsLabel(combo).c_str(), ok, n, sim_s / n, dist / n);
-      }
-    }
-    fs::create_directories(o->out);
-    std::ofstream junit(fs::path(o->out) / "junit.xml");
-    junit << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"ovpc scenarios\" tests=\""
-          << jobs.size() << "\" failures=\"" << jobs.size() - passed - errors << "\" errors=\"" << errors << "\" time=\""
-          << total_wall << "\">\n"
-          << cases.str() << "  </testsuite>\n</testsuites>\n";
-    std::ofstream(fs::path(o->out) / "summary.json") << nlohmann::json{{"runs", summary}, {"passed", passed}, {"errors", errors}, {"total", jobs.size()}}.dump(2)
-                                                     << "\n";
-    std::printf("\n%zu of %zu runs passed; wrote %s/junit.xml and %s/summary.json\n", passed, jobs.size(), o->out.c_str(),
-                o->out.c_str());
-    if (malformed) return kExitBadInput;
-    return passed == jobs.size() ? kExitOk : kExitFailure;
+    Planner plan(*o, combos, preset);
+    for (const std::string& file : files) plan.AddFile(file);
+    if (plan.jobs.empty()) throw BadInput("no scenario to run");
+    RunAll(plan.jobs, *o, plan.families);
+    const std::size_t passed = suite::WriteReport({plan.jobs, plan.families, o->out, o->seeds, !o->sweeps.empty(), combos});
+    if (plan.malformed) return kExitBadInput;
+    return passed == plan.jobs.size() ? kExitOk : kExitFailure;
   };
 }
 

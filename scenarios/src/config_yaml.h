@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "format.h"
 #include "ovpc/navigation/config_fields.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
@@ -186,23 +187,6 @@ class ConfigReader {
  private:
   MapReader& r_;
 };
-
-/// The shortest decimal that reads back as the same double; .inf / -.inf / .nan as YAML spells them.
-inline std::string FormatNumber(double v) {
-  if (std::isnan(v)) return ".nan";
-  if (std::isinf(v)) return v > 0 ? ".inf" : "-.inf";
-  if (v == std::floor(v) && std::abs(v) < 1e15) {
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(0) << v;
-    return s.str();
-  }
-  for (int digits = 1; digits <= 17; ++digits) {
-    std::ostringstream s;
-    s << std::setprecision(digits) << v;
-    if (std::stod(s.str()) == v) return s.str();
-  }
-  return std::to_string(v);
-}
 
 /// Writes a Config as block-style YAML, keys in the field lists' order.
 class YamlWriter {

@@ -1,6 +1,8 @@
-// Number formatting shared by the scorecard, the referee's criteria and the recorder's file names.
+// Number formatting shared by the scorecard, the referee's criteria, the recorder's file names and the
+// YAML the scenarios write (configurations, drawn family members).
 #pragma once
 
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -12,6 +14,23 @@ inline std::string Fixed(double v, int digits) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
   return s.str();
+}
+
+/// The shortest decimal that reads back as the same double; .inf / -.inf / .nan as YAML spells them.
+inline std::string FormatNumber(double v) {
+  if (std::isnan(v)) return ".nan";
+  if (std::isinf(v)) return v > 0 ? ".inf" : "-.inf";
+  if (v == std::floor(v) && std::abs(v) < 1e15) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(0) << v;
+    return s.str();
+  }
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::ostringstream s;
+    s << std::setprecision(digits) << v;
+    if (std::stod(s.str()) == v) return s.str();
+  }
+  return std::to_string(v);
 }
 
 }  // namespace ovpc::scenarios::internal

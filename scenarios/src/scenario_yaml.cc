@@ -12,6 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config_yaml.h"
+#include "scenario_node.h"
 #include "ovpc/scenarios/closed_loop.h"
 
 namespace ovpc::scenarios {
@@ -357,8 +358,19 @@ Scenario Parse(const std::string& yaml_text, const std::string& file, const std:
     throw ScenarioError(file + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
   }
   if (!root.IsMap()) throw ScenarioError(file + ": a scenario file must be a mapping of keys to values");
+  if (const YAML::Node p = static_cast<const YAML::Node&>(root)["parameters"]) {
+    throw ScenarioError(Where(file, p) + ": this is a scenario family ('parameters:'): run its draws with `ovpc suite " + file +
+                        " --samples N`, or write them with `ovpc family " + file + " --samples N --out DIR`");
+  }
   for (const std::string& setting : settings) ApplySetting(root, setting, file);
+  return internal::ParseScenarioNode(root, file, preset);
+}
 
+}  // namespace
+
+namespace internal {
+
+Scenario ParseScenarioNode(const YAML::Node& root, const std::string& file, const Preset& preset) try {
   Scenario s;
   s.path = file;
   ApplyPreset(preset, &s);
@@ -430,9 +442,12 @@ Scenario Parse(const std::string& yaml_text, const std::string& file, const std:
     throw ScenarioError(file + ": " + e.what());
   }
   return s;
+} catch (const YAML::Exception& e) {
+  // What the readers do not name themselves (a value yaml-cpp cannot convert, ...).
+  throw ScenarioError(file + (e.mark.line >= 0 ? ":" + std::to_string(e.mark.line + 1) : std::string()) + ": " + e.msg);
 }
 
-}  // namespace
+}  // namespace internal
 
 Scenario ParseScenario(const std::string& yaml_text, const std::string& file, const std::vector<std::string>& settings,
                        const Preset& preset) {

@@ -319,5 +319,58 @@ TEST_F(CliTest, SuiteGivesFilesWithOneScenarioNameFoldersOfTheirOwn) {
   }
 }
 
+// A scenario family: `ovpc run` refuses it, `ovpc family` writes its draws, `ovpc suite` draws, runs
+// (one short draw) and judges it, and a malformed family is bad input with file and line.
+TEST_F(CliTest, FamiliesAreDrawnRunAndJudged) {
+  std::string family = testing::kShortFlatScenario;
+  family.replace(family.find("name: short_flat"), 16, "name: short_family");
+  family.replace(family.find("route: [[0, 0], [6, 0]]"), 23, "route: [[0, 0], [$goal_x, 0]]");
+  family.replace(family.find("goal: {x_m: 6.0"), 15, "goal: {x_m: \"${goal_x}\"");
+  family += "parameters:\n  goal_x: {grid: [6]}\n  post_y: {uniform: [4, 6]}\nobjects:\n  - cylinder: {x_m: 3, y_m: $post_y}\n"
+            "expect:\n  - {when: \"goal_x < 10\", then: pass}\n  - {then: any, reason: far}\n";
+  WriteText("family.yaml", family);
+
+  const RunResult run = Run("run " + Path("family.yaml"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(CountLines(run.err), 1) << run.err;
+  EXPECT_NE(run.err.find("this is a scenario family ('parameters:'): run its draws with `ovpc suite "), std::string::npos) << run.err;
+
+  const RunResult drawn = Run("family " + Path("family.yaml") + " --samples 3 --seed 5 --out " + Path("drawn"));
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.err;
+  EXPECT_NE(drawn.out.find("short_family: 3 draws (seed 5"), std::string::npos) << drawn.out;
+  for (const char* draw : {"draw_000", "draw_001", "draw_002"}) {
+    EXPECT_TRUE(fs::exists(fs::path(Path("drawn")) / "short_family" / draw / "scenario.yaml")) << draw;
+  }
+  EXPECT_EQ(CountLines(ReadAll(Path("drawn/short_family/draws.csv"))), 4);
+
+  const RunResult suite = Run("suite " + Path("family.yaml") + " --samples 1 --seed 5 --out " + Path("suite"));
+  ASSERT_EQ(suite.exit_code, 0) << suite.out << suite.err;
+  const std::string draw_file = Path("suite/short_family/draw_000/scenario.yaml");
+  EXPECT_EQ(ReadAll(draw_file), ReadAll(Path("drawn/short_family/draw_000/scenario.yaml"))) << "the same draw either way";
+  EXPECT_NE(suite.out.find("pass: ok"), std::string::npos) << suite.out;
+  EXPECT_NE(suite.out.find("short_family: pass rate against post_y (uniform, 5 bins)"), std::string::npos) << suite.out;
+  const nlohmann::json result = nlohmann::json::parse(ReadAll(Path("suite/short_family/draw_000/seed_1/result.json")));
+  EXPECT_EQ(result["extra"]["expectation"], "pass");
+  EXPECT_EQ(result["extra"]["verdict"], "ok");
+  EXPECT_EQ(result["extra"]["values"]["goal_x"], 6.0);
+  EXPECT_EQ(result["extra"]["scenario_file"], draw_file);
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("suite/summary.json")));
+  EXPECT_EQ(summary["runs"][0]["family"]["family"], "short_family");
+  EXPECT_EQ(summary["families"][0]["draws"], 1);
+  const std::string junit = ReadAll(Path("suite/junit.xml"));
+  EXPECT_NE(junit.find("classname=\"short_family\" name=\"draw_000 seed=1 goal_x=6 post_y="), std::string::npos) << junit;
+  EXPECT_NE(ReadAll(Path("suite/short_family/pass_rate.csv")).find("goal_x,6,6,6,1,1,0,0,0"), std::string::npos);
+  EXPECT_TRUE(fs::exists(Path("suite/short_family/pass_rate_post_y.svg")));
+  EXPECT_TRUE(fs::exists(Path("suite/short_family/runs.csv")));
+
+  WriteText("bad.yaml", family.replace(family.find("{grid: [6]}"), 11, "{uniform: [6, 3]}"));
+  const RunResult bad = Run("family " + Path("bad.yaml"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("bad.yaml:10: 'parameters.goal_x.uniform' must be [lo, hi] with lo < hi"), std::string::npos) << bad.err;
+  const RunResult bad_suite = Run("suite " + Path("bad.yaml") + " --out " + Path("bad_suite"));
+  EXPECT_EQ(bad_suite.exit_code, 2);
+  EXPECT_NE(bad_suite.out.find("bad.yaml:10:"), std::string::npos) << bad_suite.out;
+}
+
 }  // namespace
 }  // namespace ovpc
