@@ -305,6 +305,21 @@ TEST(LocalGoalTest, CandidatesEndAtMostMaxAheadAlongTheRoute) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// The first failing check of `at(x, y)` over the box's footprint, sampled every 0.1 m.
+template <class At>
+PoseCheck CheckFootprint(const GroundPose& ground, const VehicleBox& vehicle, At at) {
+  const double x0 = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
+  const double half = 0.5 * vehicle.width_m + vehicle.margin_m;
+  for (double x = x0; x <= x0 + vehicle.length_m + 2 * vehicle.margin_m + 1e-9; x += 0.1) {
+    for (double y = -half; y <= half + 1e-9; y += 0.1) {
+      const Vec3 p = ground.T_L_B * Vec3(x, y, 0.0);
+      const PoseCheck check = at(p.x(), p.y());
+      if (check != PoseCheck::kValid) return check;
+    }
+  }
+  return PoseCheck::kValid;
+}
+
 // A flat known square, x and y in [-10, 10], with a wall of non-traversable ground across it at
 // x in [4, 5] from y = -10 up to y = 4: the way round is the gap between y = 4 and y = 10.
 class WallMap : public PlanningMap {
@@ -316,17 +331,10 @@ class WallMap : public PlanningMap {
     return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), !Wall(pose.x_m, pose.y_m));
   }
   PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override {
-    // The footprint, sampled every 0.1 m, must lie on known ground away from the wall.
-    const double x0 = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
-    const double half = 0.5 * vehicle.width_m + vehicle.margin_m;
-    for (double x = x0; x <= x0 + vehicle.length_m + 2 * vehicle.margin_m + 1e-9; x += 0.1) {
-      for (double y = -half; y <= half + 1e-9; y += 0.1) {
-        const Vec3 p = ground.T_L_B * Vec3(x, y, 0.0);
-        if (!Known(p.x(), p.y())) return PoseCheck::kGroundUnderFootprint;
-        if (Wall(p.x(), p.y())) return PoseCheck::kGroundUnderFootprint;
-      }
-    }
-    return PoseCheck::kValid;
+    // The footprint must lie on known ground away from the wall.
+    return CheckFootprint(ground, vehicle, [](double x, double y) {
+      return Known(x, y) && !Wall(x, y) ? PoseCheck::kValid : PoseCheck::kGroundUnderFootprint;
+    });
   }
   bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m) && !Wall(x_m, y_m); }
   MapBounds Bounds() const override { return MapBounds{-10.0, 10.0, -10.0, 10.0}; }
@@ -458,16 +466,10 @@ class LowRoofMap : public PlanningMap {
     return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), true);
   }
   PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override {
-    const double x0 = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
-    const double half = 0.5 * vehicle.width_m + vehicle.margin_m;
-    for (double x = x0; x <= x0 + vehicle.length_m + 2 * vehicle.margin_m + 1e-9; x += 0.1) {
-      for (double y = -half; y <= half + 1e-9; y += 0.1) {
-        const Vec3 p = ground.T_L_B * Vec3(x, y, 0.0);
-        if (Roof(p.x(), p.y())) return PoseCheck::kCollision;
-        if (!Known(p.x(), p.y())) return PoseCheck::kGroundUnderFootprint;
-      }
-    }
-    return PoseCheck::kValid;
+    return CheckFootprint(ground, vehicle, [this](double x, double y) {
+      if (Roof(x, y)) return PoseCheck::kCollision;
+      return Known(x, y) ? PoseCheck::kValid : PoseCheck::kGroundUnderFootprint;
+    });
   }
   bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m); }
   MapBounds Bounds() const override { return MapBounds{-10.0, x_max_, -10.0, 10.0}; }
