@@ -66,6 +66,8 @@ void Navigator::Config::Validate() const {
   if (!std::isfinite(known_support_margin_m) || known_support_margin_m > 2.0) {
     fail("navigator.known_support_margin_m must be at most 2 (negative disables)");
   }
+  if (!std::isfinite(keep_path_within_m)) fail("navigator.keep_path_within_m must be finite");
+  if (!(cusp_cost_m >= 0.0) || !std::isfinite(cusp_cost_m)) fail("navigator.cusp_cost_m must be >= 0");
   if (!(blocked_stop_short_m >= 0.0) || !std::isfinite(blocked_stop_short_m)) fail("navigator.blocked_stop_short_m must be >= 0");
   if (!(min_prefix_m >= 0.0) || !std::isfinite(min_prefix_m)) fail("navigator.min_prefix_m must be >= 0");
   if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0) || !std::isfinite(progress_back_m) ||
@@ -226,7 +228,7 @@ void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
   const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
   if (reason != planner::ReplanReason::kNone) {
     record.trigger = planner::ReplanReasonName(reason);
-    const bool found = Replan(c, reason, blocked, blocked_index, &record);
+    const bool found = Replan(c, reason, blocked, closest, blocked_index, &record);
     // The old path runs into something: drive only its valid part.
     if (!found && blocked) KeepValidPrefix(closest, blocked_index);
   }
@@ -255,8 +257,22 @@ bool Navigator::PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std:
   return true;
 }
 
-bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t blocked_index,
-                       CycleRecord* cycle) {
+bool Navigator::NewPathIsBetter(const planner::Path& new_path_L, const planner::LocalGoal& goal, std::size_t closest) const {
+  if (config_.keep_path_within_m < 0.0 || !last_goal_O_ || path_O_.empty()) return true;
+  const planner::Path rest = path_O_.Slice(closest, path_O_.Poses().size() - 1);
+  if (rest.empty()) return true;
+  // The route left after the goal is the route's length less the goal's progress; the length is
+  // the same on both sides.
+  const auto cost = [&](const planner::Path& p, double goal_progress_m, bool turns_round) {
+    return p.Length() + config_.cusp_cost_m * (p.NumCusps() + (turns_round ? 1 : 0)) - goal_progress_m;
+  };
+  const bool turns_round = new_path_L.segments.front().direction != rest.segments.front().direction;
+  return cost(new_path_L, goal.route_progress_m, turns_round) <
+         cost(rest, last_goal_O_->route_progress_m, false) - config_.keep_path_within_m;
+}
+
+bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
+                       std::size_t blocked_index, CycleRecord* cycle) {
   const planner::VehicleBox& box = config_.planner.vehicle;
   std::optional<planner::LocalGoal> previous_L;
   if (last_goal_O_) {
@@ -304,6 +320,14 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
     attempt.state_checks = plan.state_checks;
     plan_log_.push_back(attempt);
     cycle->outcome = outcome;
+    if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
+        !NewPathIsBetter(plan.path, goal, closest)) {
+      // The current path stands: what is left of it is as good.
+      plan_log_.back().outcome = cycle->outcome = "kept current";
+      ++stats_.plan_outcomes["kept current"];
+      found = true;
+      break;
+    }
     if (plan.found() && !plan.path.empty()) {
       ++stats_.replans_found;
       path_O_ = Shifted(plan.path, c.L_to_O);

@@ -168,6 +168,63 @@ TEST(NavigatorTest, ItsPlannerAndFollowerCanBeAUsers) {
   EXPECT_EQ(updates, 5);
 }
 
+// A planner whose first path goes straight to the goal and whose later ones back up 1 m first.
+class BackingUpPlanner final : public PathPlanner {
+ public:
+  planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2& goal,
+                           const std::vector<double>&) const override {
+    planner::PlanResult r;
+    r.status = planner::PlanStatus::kFound;
+    planner::PathSegment straight;
+    if (calls_++ > 0) {
+      const Pose2 back{start.x_m - 1.0, start.y_m, start.yaw_rad};
+      planner::PathSegment reverse;
+      reverse.direction = planner::Direction::kReverse;
+      reverse.poses = {{start, 0.0}, {back, 0.0}};
+      r.path.segments.push_back(reverse);
+      straight.poses = {{back, 0.0}, {goal, 0.0}};
+    } else {
+      straight.poses = {{start, 0.0}, {goal, 0.0}};
+    }
+    r.path.segments.push_back(straight);
+    return r;
+  }
+  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
+                                              std::size_t) const override {
+    return std::nullopt;
+  }
+
+ private:
+  mutable int calls_ = 0;
+};
+
+TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
+  for (const double keep : {-1.0, 1.0}) {
+    Navigator::Config config = FlatConfig();
+    config.keep_path_within_m = keep;
+    config.cusp_cost_m = 3.0;
+    Navigator::Plugins plugins;
+    plugins.planner = std::make_unique<BackingUpPlanner>();
+    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+    FirstCycle(&nav, FlatGroundScans(1));
+    ASSERT_EQ(nav.path_O().NumCusps(), 0);
+    for (double t = 0.4; t < 1.25; t += 0.2) nav.Update(t, Eigen::Isometry3d::Identity());
+    // At 1.2 s the period has elapsed: the new path backs up first (2 m longer, and a cusp and a
+    // turn round at 3 m each) and replaces the current one only under the paper's rule.
+    EXPECT_EQ(nav.cycles().back().trigger, "period elapsed") << keep;
+    if (keep < 0.0) {
+      EXPECT_EQ(nav.cycles().back().outcome, "found");
+      EXPECT_EQ(nav.path_O().NumCusps(), 1);
+    } else {
+      EXPECT_EQ(nav.cycles().back().outcome, "kept current");
+      EXPECT_EQ(nav.path_O().NumCusps(), 0);
+    }
+  }
+  Navigator::Config bad = FlatConfig();
+  bad.cusp_cost_m = -1.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 TEST(NavigatorTest, GeometryIsDerivedFromTheVehicleModel) {
   Navigator::Config config;
   config.vehicle.length_m = 4.0;

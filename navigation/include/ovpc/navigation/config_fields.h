@@ -173,6 +173,8 @@ void VisitFields(V& v, Navigator::Config& c) {
   v.Field("known_support_margin_m", c.known_support_margin_m);
   v.Field("blocked_stop_short_m", c.blocked_stop_short_m);
   v.Field("min_prefix_m", c.min_prefix_m);
+  v.Field("keep_path_within_m", c.keep_path_within_m);
+  v.Field("cusp_cost_m", c.cusp_cost_m);
   v.Field("progress_back_m", c.progress_back_m);
   v.Field("progress_ahead_m", c.progress_ahead_m);
 }

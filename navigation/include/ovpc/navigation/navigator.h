@@ -119,6 +119,13 @@ class Navigator {
     /// pose; a remaining prefix shorter than `min_prefix_m` is dropped and the vehicle stands.
     double blocked_stop_short_m = 0.5;
     double min_prefix_m = 0.3;
+    /// A periodic re-plan (the current path still valid) replaces the current path only if the new
+    /// one is shorter by more than this, counting for each path its length, `cusp_cost_m` per change
+    /// of direction (one more when it starts the other way than the vehicle is driving) and the
+    /// route left after its goal. A new path each second that starts the other way rocks the vehicle
+    /// on the spot. Negative: every new path replaces the current one (the paper's rule).
+    double keep_path_within_m = -1.0;
+    double cusp_cost_m = 0.0;
     /// Route progress is tracked in a window this far back and ahead of the last progress, so that a
     /// route passing near itself is not taken as done when the vehicle cuts across.
     double progress_back_m = 5.0;
@@ -188,7 +195,10 @@ class Navigator {
   // Map-frame helpers of one cycle.
   struct Cycle;
   bool PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std::size_t* closest, std::size_t* blocked_index) const;
-  bool Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t blocked_index, CycleRecord* record);
+  bool Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest, std::size_t blocked_index,
+              CycleRecord* record);
+  /// Periodic re-plans: is the new path (to `goal`) worth more than what is left of the current one?
+  bool NewPathIsBetter(const planner::Path& new_path_L, const planner::LocalGoal& goal, std::size_t closest) const;
   void KeepValidPrefix(std::size_t closest, std::size_t blocked_index);
 
   Config config_;
