@@ -101,7 +101,51 @@ struct Scratch {
   std::vector<int> hull_vertices;
   std::vector<std::array<int, 3>> hull_faces;
   std::vector<int> mesh_index;
+  std::vector<int> dedup_order, dedup_original;
+  std::vector<char> dedup_repeat;
+  Points dedup_images;
 };
+
+// Exact duplicate image points (repeated input points, e.g. a scanner's self-hits) make the
+// incremental hull stop as degenerate, though the hull of the distinct points is the same. Drops
+// the repeats (keeping the first of each), runs the fast hull on the rest and maps its vertices and
+// faces back to image indices. False when there are no duplicates or the rest is degenerate too.
+bool FastHullWithoutDuplicates(const Points& images, Scratch* s, std::vector<int>* vertices,
+                               std::vector<std::array<int, 3>>* faces) {
+  std::vector<int>& order = s->dedup_order;
+  order.resize(images.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  const auto less = [&](int a, int b) {
+    const Vec3 &p = images[a], &q = images[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<char>& repeat = s->dedup_repeat;
+  repeat.assign(images.size(), 0);
+  bool any = false;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    if (images[order[k]] == images[order[k - 1]]) repeat[order[k]] = 1, any = true;  // order[k - 1] is smaller
+  }
+  if (!any) return false;
+  Points& distinct = s->dedup_images;
+  std::vector<int>& original = s->dedup_original;
+  distinct.clear();
+  original.clear();
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    if (repeat[i]) continue;
+    distinct.push_back(images[i]);
+    original.push_back(static_cast<int>(i));
+  }
+  if (internal::IncrementalHull(distinct, &s->hull, vertices, faces) != internal::HullStatus::kOk) return false;
+  for (int& v : *vertices) v = original[v];  // increasing map: stays ascending
+  for (auto& f : *faces) {
+    for (int& v : f) v = original[v];
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -194,8 +238,9 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
   std::vector<int>& hull_vertices = scratch.hull_vertices;         // image indices, ascending
   std::vector<std::array<int, 3>>& hull_faces = scratch.hull_faces;  // image indices, outward
   const bool fast = !config.reference_hull &&
-                    internal::IncrementalHull(images, &scratch.hull, &hull_vertices, &hull_faces) ==
-                        internal::HullStatus::kOk;
+                    (internal::IncrementalHull(images, &scratch.hull, &hull_vertices, &hull_faces) ==
+                         internal::HullStatus::kOk ||
+                     FastHullWithoutDuplicates(images, &scratch, &hull_vertices, &hull_faces));
   if (!fast) {
     // Degenerate input (coplanar or duplicate image points) or asked for: CGAL's quickhull decides.
     if (!SpansVolume(images)) {

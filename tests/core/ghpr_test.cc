@@ -195,6 +195,36 @@ TEST(GhprTest, DuplicatesAndCoplanarGroupsStayWatertight) {
   EXPECT_LE(r.mesh.num_visible(), n);
 }
 
+TEST(GhprTest, DuplicatesInGeneralPositionStayOnTheFastHullWithTheSameVisibleSet) {
+  // Points at random directions and ranges (general position), then 15 % of them repeated exactly,
+  // as a scanner's self-hits are: the duplicates must not push the hull onto the slow path.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), range(4.0, 20.0);
+  Points pts;
+  while (pts.size() < 3000) {
+    const Vec3 dir(u(rng), u(rng), 0.3 * u(rng));
+    if (dir.norm() > 0.1) pts.push_back(dir.normalized() * range(rng));
+  }
+  const GhprResult plain = ComputeGhpr(pts, Vec3::Zero(), {});
+  ASSERT_EQ(plain.status, GhprStatus::kOk);
+  ASSERT_FALSE(plain.used_reference_hull);
+  Points dup = pts;
+  for (std::size_t i = 0; i < pts.size(); i += 7) dup.push_back(pts[i]);
+  const GhprResult r = ComputeGhpr(dup, Vec3::Zero(), {});
+  ASSERT_EQ(r.status, GhprStatus::kOk);
+  EXPECT_FALSE(r.used_reference_hull);
+  EXPECT_TRUE(CheckTopology(r.mesh.triangles).watertight());
+  // The same visible points, each once, by its first index; the same hull.
+  EXPECT_EQ(VisibleSources(r), VisibleSources(plain));
+  EXPECT_EQ(r.mesh.triangles.size(), plain.mesh.triangles.size());
+  // The reference hull (CGAL) agrees on the visible positions.
+  Ghpr::Config reference;
+  reference.reference_hull = true;
+  const GhprResult ref = ComputeGhpr(dup, Vec3::Zero(), reference);
+  ASSERT_EQ(ref.status, GhprStatus::kOk);
+  EXPECT_EQ(ref.mesh.num_visible(), r.mesh.num_visible());
+}
+
 TEST(GhprTest, GroundFacesPointUpIntoFreeSpace) {
   const Points ground = testing::Grid(-5, 5, -5, 5, 0.0, 0.5);
   const GhprResult r = ComputeGhpr(ground, Vec3(0.0, 0.0, 1.88), {});
