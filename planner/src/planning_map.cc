@@ -31,6 +31,9 @@ void VehicleBox::Validate() const {
   RequirePositive(wheelbase_m, "wheelbase_m");
   RequirePositive(track_m, "track_m");
   RequirePositive(wheel_support_m, "wheel_support_m");
+  if (!(edge_tolerance_m >= 0.0)) {
+    throw std::invalid_argument("VehicleBox: edge_tolerance_m must be >= 0 (infinite: off), got " + std::to_string(edge_tolerance_m));
+  }
   if (!(max_tilt_deg > 0.0 && max_tilt_deg < 90.0)) {
     throw std::invalid_argument("VehicleBox: max_tilt_deg must be in (0, 90), got " + std::to_string(max_tilt_deg));
   }

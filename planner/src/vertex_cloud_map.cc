@@ -269,9 +269,21 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
       if (!nearest || nearest->distance_m > vehicle.wheel_support_m || !cloud_.traversable()[nearest->index]) {
         return PoseCheck::kGroundUnderFootprint;
       }
+      if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
+        return PoseCheck::kGroundUnderFootprint;
+      }
     }
   }
   return PoseCheck::kValid;
+}
+
+bool VertexCloudMap::SeenBeyond(const Vec3& contact, double radius_m) const {
+  // The viewpoint is the map frame's origin (the mapper's frame).
+  const double reach = contact.head<2>().norm();
+  for (const auto& n : cloud_.WithinRadius(contact, radius_m)) {
+    if (cloud_.traversable()[n.index] && cloud_.points()[n.index].head<2>().norm() >= reach) return true;
+  }
+  return false;
 }
 
 bool VertexCloudMap::IsKnownFree(double x_m, double y_m) const {

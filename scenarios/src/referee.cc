@@ -36,13 +36,13 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
   return false;
 }
 
-// Does any footprint point at the true pose lie outside the terrain's extent (centred on the origin)?
-bool FootprintOffTerrain(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const sim::TerrainConfig& t) {
+// Does a wheel's contact point at the true pose lie outside the terrain's extent (centred on the
+// origin)? A body overhanging the edge stands; a wheel past it drops.
+bool WheelOffTerrain(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const sim::TerrainConfig& t) {
   const Region inside{"terrain", Eigen::Vector2d(-0.5 * t.size_x_m, -0.5 * t.size_y_m),
                       Eigen::Vector2d(0.5 * t.size_x_m, 0.5 * t.size_y_m)};
-  const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
-  for (double x : {x0, x1}) {
-    for (double y : {-0.5 * v.width_m, 0.5 * v.width_m}) {
+  for (double x : {0.0, v.wheelbase_m}) {
+    for (double y : {-0.5 * v.track_m, 0.5 * v.track_m}) {
       const Vec3 p = T_W_B * Vec3(x, y, 0.0);
       if (p.x() < inside.min_m.x() || p.x() > inside.max_m.x() || p.y() < inside.min_m.y() || p.y() > inside.max_m.y()) {
         return true;
@@ -77,7 +77,7 @@ void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::
                             contacts.front().world_geom);
     }
   }
-  if (!off_terrain_ && FootprintOffTerrain(T_W_B, vehicle_, scenario_.sim.world.terrain)) off_terrain_ = true;
+  if (!off_terrain_ && WheelOffTerrain(T_W_B, vehicle_, scenario_.sim.world.terrain)) off_terrain_ = true;
   for (std::size_t i = 0; i < region_entered_.size(); ++i) {
     if (!region_entered_[i] && FootprintInRegion(T_W_B, vehicle_, scenario_.criteria.forbidden[i])) region_entered_[i] = true;
   }
@@ -122,7 +122,7 @@ void Referee::Score(RunResult* result) const {
     add("min_progress", ">= " + Fixed(*c.min_progress_m, 1) + " m", Fixed(best_progress_m_, 1) + " m",
         best_progress_m_ >= *c.min_progress_m);
   }
-  add("on_terrain", "never over the terrain's edge", off_terrain_ ? "drove over the edge" : "stayed on", !off_terrain_);
+  add("on_terrain", "no wheel over the terrain's edge", off_terrain_ ? "a wheel went over the edge" : "stayed on", !off_terrain_);
   for (std::size_t i = 0; i < c.forbidden.size(); ++i) {
     add("never_enter:" + c.forbidden[i].name, "never entered", region_entered_[i] ? "entered" : "never entered",
         !region_entered_[i]);

@@ -248,7 +248,7 @@ TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
   const nlohmann::json result = nlohmann::json::parse(ReadAll(Path("run/result.json")));
   EXPECT_EQ(result["config"]["navigator"]["follower"]["target_speed_mps"], 1.25);
   EXPECT_EQ(result["config"]["navigator"]["planner"]["vehicle"]["footprint_check"], "wheels");
-  EXPECT_EQ(result["config"]["navigator"]["local_goal"]["max_ahead_m"], "inf");
+  EXPECT_EQ(result["config"]["navigator"]["planner"]["vehicle"]["edge_tolerance_m"], "inf");
   // One row per map-and-plan cycle: 5 per simulated second.
   const std::string cycles = ReadAll(Path("run/cycles.csv"));
   EXPECT_EQ(cycles.rfind("time_s,cloud_points,map_ok,trigger,outcome,", 0), 0u) << cycles;

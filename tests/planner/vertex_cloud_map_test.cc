@@ -136,6 +136,27 @@ TEST(VertexCloudMapTest, WheelRuleLetsLowNonTraversablePointsPassBetweenTheWheel
   EXPECT_EQ(CheckPose(clean, wheels, pose), PoseCheck::kValid);
 }
 
+// The seen ground ends 0.3 m short of the front wheels (a drop, or a ditch the sensor has not seen
+// into): within wheel_support_m, so the wheel rule alone accepts it; the edge tolerance does not.
+// A strip of unseen ground with seen ground beyond it (a shadow) still carries the wheels.
+TEST(VertexCloudMapTest, EdgeToleranceKeepsTheWheelsOffGroundPastTheLastSeen) {
+  VehicleBox wheels;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  VehicleBox careful = wheels;
+  careful.edge_tolerance_m = 0.15;
+  const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6; the viewpoint at the origin
+  const auto none = [](double, double) { return false; };
+  const VertexCloudMap edge = FlatGround(none, [](double x, double) { return x > 1.65; });
+  EXPECT_EQ(CheckPose(edge, wheels, pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(edge, careful, pose), PoseCheck::kGroundUnderFootprint);
+  const VertexCloudMap shadow = FlatGround(none, [](double x, double) { return x > 1.65 && x < 2.15; });
+  EXPECT_EQ(CheckPose(shadow, careful, pose), PoseCheck::kValid);
+  // On seen ground the tolerance changes nothing.
+  EXPECT_EQ(CheckPose(FlatGround(none, none), careful, pose), PoseCheck::kValid);
+  careful.edge_tolerance_m = -0.1;
+  EXPECT_THROW(careful.Validate(), std::invalid_argument);
+}
+
 // The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
 // there; obstacles in the box still block, and wheels outside the region still need support.
 TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {

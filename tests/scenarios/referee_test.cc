@@ -28,13 +28,15 @@ TEST(RefereeTest, AVehicleOverTheTerrainsEdgeHasLeftItAndFails) {
   s.route_m = {{0.0, 0.0}, {8.0, 0.0}};
   const sim::GatorParams gator;
   Referee referee(s, gator, At(0.0, 0.0, 0.0));
-  referee.Observe(1.0, At(7.0, 0.0, 0.0), {});  // the front bumper at 7 + 2.35 m: on the terrain
+  referee.Observe(1.0, At(7.0, 0.0, 0.0), {});  // the front wheels at 7 + 1.9 m: on the terrain
+  EXPECT_FALSE(referee.OffTerrain());
+  referee.Observe(1.5, At(7.9, 0.0, 0.0), {});  // the front bumper (at 10.25 m) overhangs: it stands
   EXPECT_FALSE(referee.OffTerrain());
   RunResult on;
   referee.Score(&on);
   EXPECT_TRUE(CriterionPassed(on, "on_terrain"));
-  // Reversing over the edge at the side: the rear corner leaves first.
-  referee.Observe(2.0, At(7.0, 9.5, -kPi / 2 - 0.3), {});
+  // Reversing over the edge at the side: a rear wheel leaves first.
+  referee.Observe(2.0, At(7.0, 9.95, -kPi / 2 - 0.3), {});  // the left rear wheel at y = 10.13
   EXPECT_TRUE(referee.OffTerrain());
   referee.Observe(3.0, At(0.0, 0.0, 0.0), {});  // once off, off: the vehicle fell
   EXPECT_TRUE(referee.OffTerrain());

@@ -96,6 +96,7 @@ void VisitFields(V& v, planner::VehicleBox& c) {
            {{"all_points", planner::VehicleBox::FootprintCheck::kAllPoints},
             {"wheels", planner::VehicleBox::FootprintCheck::kWheels}});
   v.Field("wheel_support_m", c.wheel_support_m);
+  v.Field("edge_tolerance_m", c.edge_tolerance_m);
   v.Choice("placement", c.placement,
            {{"nearest_point", planner::VehicleBox::Placement::kNearestPoint},
             {"wheel_contacts", planner::VehicleBox::Placement::kWheelContacts}});

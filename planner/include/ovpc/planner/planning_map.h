@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 
 #include <Eigen/Geometry>
@@ -34,6 +35,11 @@ struct VehicleBox {
   double wheelbase_m = VehicleModel{}.wheelbase_m;  ///< front axle ahead of the pose origin (kWheels)
   double track_m = VehicleModel{}.track_m;  ///< wheel centre to wheel centre across (kWheels)
   double wheel_support_m = 0.5;      ///< farthest a wheel may be from its nearest visible point (kWheels)
+  /// kWheels: a wheel whose nearest visible point is farther than this must also have traversable
+  /// seen ground beyond it, as seen from the sensor (a point within wheel_support_m at least as far
+  /// from the viewpoint, in the plane): a wheel may not stand past the last seen ground, over an
+  /// edge or a ditch the sensor has not seen into. Infinite: no such test (wheel_support_m alone).
+  double edge_tolerance_m = std::numeric_limits<double>::infinity();
   /// How the box is placed on the ground.
   enum class Placement {
     kNearestPoint,   ///< the paper's rule: on the tangent plane of the visible point nearest the pose

@@ -72,6 +72,9 @@ class VertexCloudMap final : public PlanningMap {
   // The pose on the plane through point `index` with `normal` (level and not traversable if the
   // normal is too steep to stand on).
   GroundPose OnPlane(const Pose2& pose, int index, Vec3 normal) const;
+  // A traversable visible point within `radius_m` of `contact` at least as far from the viewpoint
+  // (in the plane) as the contact (VehicleBox::edge_tolerance_m).
+  bool SeenBeyond(const Vec3& contact, double radius_m) const;
   // The normal of the plane fitted around point `index` (see Config::normal_neighbours).
   Vec3 FittedNormal(int index) const;
   // The box test runs for every state the planner checks, so the points are also kept in a planar

@@ -24,8 +24,8 @@ class Referee {
   /// Takes the truth after a physics step: distance, roll and pitch, route progress, body contacts
   /// and forbidden regions.
   void Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::vector<sim::BodyContact>& contacts);
-  /// True once a point of the vehicle's footprint has left the terrain's extent (the terrain's
-  /// edge is a drop: beyond it the vehicle falls).
+  /// True once a wheel's contact point has left the terrain's extent (the terrain's edge is a drop:
+  /// beyond it the vehicle falls).
   bool OffTerrain() const { return off_terrain_; }
   /// True (and the goal time kept) when the true pose is inside the goal region.
   bool GoalReached(double time_s, const Eigen::Isometry3d& T_W_B);
