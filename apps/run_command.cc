@@ -65,10 +65,20 @@ Runner RegisterRun(CLI::App& app) {
     std::filesystem::remove(dir / "result.json");
     const scenarios::RunResult result = scenarios::RunClosedLoop(scenario, seed, options);
     std::cout << scenarios::FormatScorecard(scenario, result);
+    // The trajectory and result.json are the run's result: a failed write ends the run without a
+    // result.json (the suite reports it as an error). The plan and cycle logs and the picture are
+    // diagnostics: a failed write is a warning.
     scenarios::WriteTrajectoryCsv(result, (dir / "trajectory.csv").string());
-    scenarios::WritePlansCsv(result, (dir / "plans.csv").string());
-    scenarios::WriteCyclesCsv(result, (dir / "cycles.csv").string());
-    scenarios::WriteTopdownPng(scenario, result, (dir / "topdown.png").string());
+    const auto diagnostic = [](const auto& write) {
+      try {
+        write();
+      } catch (const std::exception& e) {
+        std::cerr << "ovpc: warning: " << e.what() << "\n";
+      }
+    };
+    diagnostic([&] { scenarios::WritePlansCsv(result, (dir / "plans.csv").string()); });
+    diagnostic([&] { scenarios::WriteCyclesCsv(result, (dir / "cycles.csv").string()); });
+    diagnostic([&] { scenarios::WriteTopdownPng(scenario, result, (dir / "topdown.png").string()); });
     scenarios::WriteResultJson(scenario, result, (dir / "result.json.part").string());
     std::filesystem::rename(dir / "result.json.part", dir / "result.json");
     std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, cycles.csv, topdown.png";

@@ -61,7 +61,8 @@ void ReadPlans(const RunResult& r, Diagnosis* d) {
   std::array<std::size_t, planner::kNumPoseChecks> rejected{};
   std::map<std::string, std::size_t> failures;
   for (const PlanRecord& p : r.plan_log) {
-    if (p.outcome == "found") d->last_plan_found_s = p.time_s;
+    // A plan found and one found but not taken (the current path kept) are not failures.
+    if (p.outcome == "found" || p.outcome == "kept current") d->last_plan_found_s = p.time_s;
     else ++failures[p.outcome];
     for (std::size_t c = 1; c < planner::kNumPoseChecks; ++c) rejected[c] += p.state_checks[c];
   }

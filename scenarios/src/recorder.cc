@@ -1,6 +1,7 @@
 #include "ovpc/scenarios/recorder.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -85,9 +86,19 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const nav
     const std::string file = (std::filesystem::path(options_.out_dir) / name.str()).string();
     std::vector<Vec3> normals_W = view.normals_L ? *view.normals_L : std::vector<Vec3>{};
     for (Vec3& n : normals_W) n = T_W_L.linear() * n;
-    WriteMeshPly(file, mesh_W, normals_W);
-    result_->files.push_back(file);
+    try {
+      WriteMeshPly(file, mesh_W, normals_W);
+      result_->files.push_back(file);
+    } catch (const std::exception& e) {
+      Warn(e.what());  // a picture lost, not the run
+    }
   }
+}
+
+void Recorder::Warn(const std::string& what) {
+  constexpr int kMaxWarnings = 3;
+  if (warnings_ < kMaxWarnings) std::fprintf(stderr, "ovpc: warning: %s (the run goes on)\n", what.c_str());
+  if (++warnings_ == kMaxWarnings) std::fprintf(stderr, "ovpc: warning: further write failures of pictures are not shown\n");
 }
 
 void Recorder::Frame(double time_s, const sim::Simulator& sim, const navigation::Navigator& navigator) {
@@ -109,8 +120,12 @@ void Recorder::Frame(double time_s, const sim::Simulator& sim, const navigation:
   std::ostringstream name;
   name << "frame_" << std::setw(5) << std::setfill('0') << static_cast<int>(std::lround(time_s * 100)) << ".png";
   const std::string file = (std::filesystem::path(options_.out_dir) / name.str()).string();
-  sim::WritePng(image, file);
-  result_->files.push_back(file);
+  try {
+    sim::WritePng(image, file);
+    result_->files.push_back(file);
+  } catch (const std::exception& e) {
+    Warn(e.what());
+  }
 }
 
 }  // namespace ovpc::scenarios

@@ -151,6 +151,14 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
   if (!out) throw std::runtime_error(path + ": could not write it whole (disk full?)");
 }
 
+namespace {
+// Closes a written file and throws if any of it could not be written (a full disk shows here).
+void CloseChecked(std::ofstream& out, const std::string& path) {
+  out.close();
+  if (!out) throw std::runtime_error(path + ": could not write it whole (disk full?)");
+}
+}  // namespace
+
 void WriteTrajectoryCsv(const RunResult& r, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot open for writing");
@@ -163,6 +171,7 @@ void WriteTrajectoryCsv(const RunResult& r, const std::string& path) {
         << o.y() << "," << o.z() << "," << Yaw(s.T_O_B) << "," << s.speed_mps << "," << s.cmd_steering_rad << ","
         << s.cmd_speed_mps << "\n";
   }
+  CloseChecked(out, path);
 }
 
 void WriteCyclesCsv(const RunResult& r, const std::string& path) {
@@ -173,6 +182,7 @@ void WriteCyclesCsv(const RunResult& r, const std::string& path) {
     out << c.time_s << "," << c.cloud_points << "," << (c.map_ok ? 1 : 0) << "," << c.trigger << "," << c.outcome << ","
         << c.prepare_ms << "," << c.map_ms << "," << c.plan_ms << "\n";
   }
+  CloseChecked(out, path);
 }
 
 void WritePlansCsv(const RunResult& r, const std::string& path) {
@@ -197,6 +207,7 @@ void WritePlansCsv(const RunResult& r, const std::string& path) {
     for (std::size_t n : p.state_checks) out << "," << n;
     out << "\n";
   }
+  CloseChecked(out, path);
 }
 
 void WriteTopdownPng(const Scenario& scenario, const RunResult& r, const std::string& path) {

@@ -263,6 +263,29 @@ TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
 
 // A suite never loses its report: a malformed file is an error of its own and the others run; a run
 // killed halfway is an error with no figures, not the figures of an earlier run in its folder.
+TEST_F(CliTest, AFullDiskLosesADiagnosticFileWithAWarningAndTheResultWithAnError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full to stand for a full disk";
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  // The plan log and the first mesh snapshot cannot be written: warnings; the result is whole.
+  fs::create_directories(Path("diag"));
+  fs::create_symlink("/dev/full", Path("diag/plans.csv"));
+  fs::create_symlink("/dev/full", Path("diag/mesh_000_t1.0.ply"));
+  const RunResult diag = Run("run " + Path("short.yaml") + " -q --set record.mesh_snapshot_period_s=1 --out " + Path("diag"));
+  EXPECT_EQ(diag.exit_code, 0) << diag.err;
+  EXPECT_NE(diag.err.find("warning: " + Path("diag/plans.csv")), std::string::npos) << diag.err;
+  EXPECT_NE(diag.err.find("mesh_000_t1.0.ply"), std::string::npos) << diag.err;
+  ASSERT_TRUE(fs::exists(Path("diag/result.json")));
+  EXPECT_TRUE(nlohmann::json::parse(ReadAll(Path("diag/result.json")))["passed"].get<bool>());
+  EXPECT_TRUE(fs::exists(Path("diag/mesh_001_t2.0.ply"))) << "the next snapshot is written";
+  // The trajectory cannot be written: the run fails and leaves no result.json claiming anything.
+  fs::create_directories(Path("traj"));
+  fs::create_symlink("/dev/full", Path("traj/trajectory.csv"));
+  const RunResult traj = Run("run " + Path("short.yaml") + " -q --out " + Path("traj"));
+  EXPECT_EQ(traj.exit_code, 1);
+  EXPECT_NE(traj.err.find("trajectory.csv: could not write it whole"), std::string::npos) << traj.err;
+  EXPECT_FALSE(fs::exists(Path("traj/result.json")));
+}
+
 TEST_F(CliTest, SuiteReportsAMalformedFileAndAKilledRunAsErrorsAndTheRestInFull) {
   WriteText("short.yaml", testing::kShortFlatScenario);
   WriteText("broken.yaml", "name: broken\ntime_limit_s: soon\nroute: [[0, 0]]\n");

@@ -45,6 +45,17 @@ TEST(DiagnosisTest, AVehicleThatStoodAtTheEndStalled) {
   EXPECT_EQ(d.commonest_rejection, "ground under footprint");
   EXPECT_EQ(d.commonest_failure, "start_invalid:ground under footprint");
   EXPECT_NE(d.summary.find("stalled at (20.0, 0.0)"), std::string::npos) << d.summary;
+
+  // A plan found but not taken (the current path kept) is a plan found, not a failure.
+  RunResult kept = MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; });
+  PlanRecord k;
+  k.time_s = 40.0;
+  k.outcome = "kept current";
+  kept.plan_log.insert(kept.plan_log.end(), 3, k);
+  const Diagnosis dk = Diagnose(kept);
+  ASSERT_TRUE(dk.last_plan_found_s.has_value());
+  EXPECT_EQ(*dk.last_plan_found_s, 40.0);
+  EXPECT_EQ(dk.commonest_failure, "start_invalid:ground under footprint");
 }
 
 TEST(DiagnosisTest, BackAndForthOnTheSpotIsRocking) {

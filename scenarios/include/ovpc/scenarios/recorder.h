@@ -41,6 +41,10 @@ class Recorder {
   std::vector<Vec3> frame_points_L_;
   std::vector<std::uint8_t> frame_traversable_;
   Eigen::Isometry3d frame_T_W_L_ = Eigen::Isometry3d::Identity();
+  // A snapshot or frame that cannot be written is a warning (on stderr, the first few), not the
+  // end of the run: the result files are what must be whole.
+  void Warn(const std::string& what);
+  int warnings_ = 0;
 };
 
 }  // namespace ovpc::scenarios
