@@ -31,30 +31,10 @@ using internal::MsSince;
 
 Point3 ToCgal(const Vec3& p) { return Point3(p.x(), p.y(), p.z()); }
 
-// Finds four image points (the origin among them) that span a volume, with exact predicates.
-bool SpansVolume(const Points& images) {
-  const Point3 p0 = ToCgal(images.back());  // the viewpoint (origin)
-  std::size_t i1 = 0;
-  while (i1 < images.size() && ToCgal(images[i1]) == p0) ++i1;
-  if (i1 >= images.size()) return false;
-  const Point3 p1 = ToCgal(images[i1]);
-  std::size_t i2 = 0;
-  while (i2 < images.size() && CGAL::collinear(p0, p1, ToCgal(images[i2]))) ++i2;
-  if (i2 >= images.size()) return false;
-  const Point3 p2 = ToCgal(images[i2]);
-  for (const Vec3& p : images) {
-    if (!CGAL::coplanar(p0, p1, p2, ToCgal(p))) return true;
-  }
-  return false;
-}
-
-// Whether the input points and the viewpoint span a volume, with exact predicates on the coordinates
-// as given. The image transform rounds, so points exactly in one plane with the viewpoint (a line
-// y = 5, z = -1 seen from the origin) can give image points a few ulps off the plane, which the
-// hull then takes for a sliver of a volume; tested on the input, they are coplanar. Usually the
-// first few points decide.
-bool InputSpansVolume(const Points& points, const Vec3& viewpoint) {
-  const Point3 v = ToCgal(viewpoint);
+// Whether `points` and `origin` span a volume, with exact predicates on the coordinates as given.
+// Usually the first few points decide.
+bool SpansVolume(const Points& points, const Vec3& origin) {
+  const Point3 v = ToCgal(origin);
   std::size_t i1 = 0;
   while (i1 < points.size() && ToCgal(points[i1]) == v) ++i1;
   if (i1 >= points.size()) return false;
@@ -228,7 +208,10 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
   }
   result.transform_ms = MsSince(t);
 
-  if (!InputSpansVolume(points, viewpoint)) {
+  // Tested on the input: the image transform rounds, so points exactly in one plane with the
+  // viewpoint (a line y = 5, z = -1 seen from the origin) can give image points a few ulps off the
+  // plane, which the hull then takes for a sliver of a volume.
+  if (!SpansVolume(points, viewpoint)) {
     result.status = GhprStatus::kDegenerate;
     result.message = "all points lie in one plane with the viewpoint: the hull has no volume";
     return result;
@@ -243,7 +226,7 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
                      FastHullWithoutDuplicates(images, &scratch, &hull_vertices, &hull_faces));
   if (!fast) {
     // Degenerate input (coplanar or duplicate image points) or asked for: CGAL's quickhull decides.
-    if (!SpansVolume(images)) {
+    if (!SpansVolume(images, images.back())) {  // the viewpoint (origin) is the last image
       result.status = GhprStatus::kDegenerate;
       result.message = "all points lie in one plane with the viewpoint: the hull has no volume";
       return result;
