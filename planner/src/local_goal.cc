@@ -140,6 +140,7 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
       }
     }
   }
+  const auto impassable = [&state](std::size_t j) { return state[j] == kBlocked || state[j] == kOverhead; };
   std::vector<std::uint8_t> blocked(state.size(), 0);
   const int grow = static_cast<int>(std::ceil(0.5 * vehicle.width_m / cell));
   for (int iy = 0; iy < ny; ++iy) {
@@ -192,13 +193,13 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   std::vector<double> to_go(state.size(), inf);
   for (std::size_t i = end; i-- > closest;) {
     int ix, iy;
-    if (!cell_of(route[i].position, &ix, &iy) || state[index(ix, iy)] == kBlocked || state[index(ix, iy)] == kOverhead) continue;
+    if (!cell_of(route[i].position, &ix, &iy) || impassable(index(ix, iy))) continue;
     to_go[index(ix, iy)] = route_length - route[i].progress_m;
     break;
   }
   // The cost to go goes round known non-traversable cells themselves (optimistic, like unknown
   // ground); the vehicle's reach keeps half its width from them.
-  dijkstra(&to_go, [&](std::size_t j) { return state[j] != kBlocked && state[j] != kOverhead; });
+  dijkstra(&to_go, [&](std::size_t j) { return !impassable(j); });
   // Reach: from the vehicle over known-traversable cells outside the grown blocked ones; the cells
   // within a vehicle's width of the vehicle are passable whatever they are (it stands there).
   const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
@@ -209,7 +210,7 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   dijkstra(&reach, [&](std::size_t j) {
     if (state[j] == kFree && !blocked[j]) return true;
     const Eigen::Vector2d c = centre(static_cast<int>(j % nx), static_cast<int>(j / nx));
-    return state[j] != kBlocked && state[j] != kOverhead && (c - here).norm() <= vehicle.width_m;
+    return !impassable(j) && (c - here).norm() <= vehicle.width_m;
   });
 
   // Candidates: reached cells by cost to go, each with the heading down the cost-to-go field.
