@@ -23,6 +23,15 @@ class BadInput : public std::runtime_error {
 
 using Runner = std::function<int()>;
 
+/// `--map NAME` of `ovpc run` and `ovpc suite`: the setting it stands for
+/// ("navigator.map=NAME"), or BadInput naming the allowed names.
+inline std::string MapSetting(const std::string& name) {
+  if (name != "ovpc" && name != "octomap" && name != "elevation") {
+    throw BadInput("--map must be ovpc, octomap or elevation, got '" + name + "'");
+  }
+  return "navigator.map=" + name;
+}
+
 Runner RegisterMesh(CLI::App& app);
 Runner RegisterSynth(CLI::App& app);
 Runner RegisterRun(CLI::App& app);

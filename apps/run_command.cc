@@ -21,6 +21,7 @@ Runner RegisterRun(CLI::App& app) {
     std::string out = "out/run";
     std::vector<std::string> settings;
     std::string preset;
+    std::string map;
     bool print_config = false;
     bool frames = false;
     bool quiet = false;
@@ -30,7 +31,7 @@ Runner RegisterRun(CLI::App& app) {
   cmd->footer(
       "Writes DIR/result.json, DIR/trajectory.csv, DIR/plans.csv, DIR/cycles.csv, DIR/topdown.png and DIR/mesh_*.ply (and frame_*.png with\n"
       "--frames). Exit codes: 0 every criterion passed, 1 a criterion failed, 2 bad input (unreadable or\n"
-      "malformed scenario, unknown key, bad --set).");
+      "malformed scenario, unknown key, bad --set or --map).");
   cmd->add_option("scenario", o->scenario, "Scenario file (scenarios/*.yaml)")->required();
   o->seed_opt = cmd->add_option("--seed", o->seed, "Seed for every random source (default: the scenario's)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
@@ -38,15 +39,20 @@ Runner RegisterRun(CLI::App& app) {
                   "Override a scenario value: dotted.key=value (repeatable), e.g. navigator.ovpc.mapper.ghpr.gamma=-0.02");
   cmd->add_option("--preset", o->preset,
                   "The robot's configuration to start from (default: the built-in navigation/presets/default.yaml)");
+  cmd->add_option("--map", o->map,
+                  "The map backend: ovpc, octomap or elevation (sets navigator.map after every --set; default: the "
+                  "configuration's, ovpc)");
   cmd->add_flag("--print-config", o->print_config,
                 "Print the run's effective configuration (navigator and record, preset form) and exit");
   cmd->add_flag("--frames", o->frames, "Render chase-camera PNG frames (EGL, CPU; slow)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
   return [o]() {
+    std::vector<std::string> settings = o->settings;
+    if (!o->map.empty()) settings.push_back(MapSetting(o->map));
     scenarios::Scenario scenario;
     try {
       const scenarios::Preset preset = o->preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o->preset);
-      scenario = scenarios::LoadScenario(o->scenario, o->settings, preset);
+      scenario = scenarios::LoadScenario(o->scenario, settings, preset);
     } catch (const scenarios::ScenarioError& e) {
       throw BadInput(e.what());
     }

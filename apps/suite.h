@@ -36,6 +36,7 @@ struct Job {
   std::uint64_t seed = 1;
   std::vector<std::string> settings;  // key=value
   std::string out_dir;
+  std::string map;  // the map backend of the run (navigator.map with its settings and --map)
   pid_t pid = 0;
   int exit_code = -1;
   nlohmann::json result = nlohmann::json::object();

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "ovpc/navigation/navigator.h"
 #include "ovpc/scenarios/family.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 #include "suite.h"
@@ -44,6 +45,7 @@ struct Options {
   std::vector<std::string> sweeps;
   std::vector<std::string> skip_labels;
   std::string preset;
+  std::string map;  // --map: every run's backend ("" = each scenario's configuration)
   std::string out = "out/suite";
   std::size_t samples = 6;
   std::uint64_t family_seed = 1;
@@ -131,7 +133,7 @@ class Planner {
       const std::string suffix = tag.substr(s.name.size());
       for (int k = 2; tag_files_.count(tag) && tag_files_[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + suffix;
       tag_files_[tag] = file;
-      AddSeeds(file, s.name, combo, fs::path(o_.out) / tag, std::nullopt);
+      AddSeeds(file, s.name, combo, fs::path(o_.out) / tag, std::nullopt, MapOf(file, combo));
     }
   }
 
@@ -162,8 +164,18 @@ class Planner {
     jobs.push_back(job);
     malformed = true;
   }
+  // The map backend a run of `file` with `combo` (and --map) uses.
+  std::string MapOf(const std::string& file, const std::vector<std::string>& combo) const {
+    std::vector<std::string> settings = combo;
+    if (!o_.map.empty()) settings.push_back(MapSetting(o_.map));
+    try {
+      return navigation::MapKindName(scenarios::LoadScenario(file, settings, preset_).navigator.map);
+    } catch (const scenarios::ScenarioError&) {
+      return "?";  // the run reports the error
+    }
+  }
   void AddSeeds(const std::string& file, const std::string& name, const std::vector<std::string>& combo, const fs::path& dir,
-                const std::optional<DrawRun>& draw) {
+                const std::optional<DrawRun>& draw, const std::string& map) {
     for (int seed = o_.first_seed; seed < o_.first_seed + o_.seeds; ++seed) {
       Job job;
       job.file = file;
@@ -172,6 +184,7 @@ class Planner {
       job.settings = combo;
       job.out_dir = (dir / ("seed_" + std::to_string(seed))).string();
       job.draw = draw;
+      job.map = map;
       jobs.push_back(job);
     }
   }
@@ -213,7 +226,7 @@ void Planner::AddFamily(const std::string& file) {
     if (Skipped(s)) continue;
     const fs::path draw_dir = fs::path(in.files[i]).parent_path();
     for (const auto& combo : combos_) {
-      AddSeeds(in.files[i], s.name, combo, draw_dir / Tag(combo, ""), DrawRun{families.size(), i});
+      AddSeeds(in.files[i], s.name, combo, draw_dir / Tag(combo, ""), DrawRun{families.size(), i}, MapOf(in.files[i], combo));
     }
   }
   families.push_back(std::move(in));
@@ -281,6 +294,10 @@ void Start(Job& job, const Options& o, const std::string& self) {
     args.push_back("--set");
     args.push_back(kv);
   }
+  if (!o.map.empty()) {
+    args.push_back("--map");
+    args.push_back(o.map);
+  }
   job.pid = Spawn(args, (fs::path(job.out_dir) / "run.log").string());
 }
 
@@ -344,6 +361,9 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--sweep", o->sweeps, "key=v1,v2,...: run every combination of values (repeatable)");
   cmd->add_option("--skip-label", o->skip_labels, "Leave out scenarios with this label (e.g. long)");
   cmd->add_option("--preset", o->preset, "The robot's configuration for every run (default: the built-in one)");
+  cmd->add_option("--map", o->map,
+                  "The map backend of every run: ovpc, octomap or elevation (default: each run's configuration; "
+                  "--sweep navigator.map=ovpc,octomap,elevation compares them)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
   cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")
@@ -353,6 +373,12 @@ Runner RegisterSuite(CLI::App& app) {
     if (o->seeds < 1) throw BadInput("--seeds must be >= 1");
     if (o->first_seed < 0) throw BadInput("--first-seed must be >= 0");
     if (o->samples < 1) throw BadInput("--samples must be >= 1");
+    if (!o->map.empty()) {
+      MapSetting(o->map);  // a bad name is bad input
+      for (const std::string& sweep : o->sweeps) {
+        if (sweep.rfind("navigator.map=", 0) == 0) throw BadInput("--map and --sweep navigator.map=... both choose the map backend; give one");
+      }
+    }
     const std::vector<std::string> files = CollectFiles(o->inputs);
     const auto combos = SweepCombinations(o->sweeps);
     scenarios::Preset preset;

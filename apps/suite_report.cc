@@ -56,7 +56,7 @@ std::string ExpectCell(const Report& rep, const Job& job) {
 
 void PrintRuns(const Report& rep) {
   const bool families = !rep.families.empty();
-  std::printf("%-22s %-5s %-34s %-6s %s%9s %9s %7s  %s\n", "scenario", "seed", families ? "values, settings" : "settings",
+  std::printf("%-22s %-5s %-9s %-34s %-6s %s%9s %9s %7s  %s\n", "scenario", "seed", "map", families ? "values, settings" : "settings",
               "result", families ? "expect: verdict  " : "", "sim [s]", "dist [m]", "RTF", "end");
   for (const Job& job : rep.jobs) {
     const nlohmann::json& r = job.result;
@@ -68,8 +68,8 @@ void PrintRuns(const Report& rep) {
     if (!ok && !verdict.empty() && verdict != "arrived") end += " (" + verdict + ")";
     char expect[40] = "";
     if (families) std::snprintf(expect, sizeof(expect), "%-16s ", ExpectCell(rep, job).c_str());
-    std::printf("%-22s %-5llu %-34s %-6s %s%9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
-                static_cast<unsigned long long>(job.seed), RunSettings(rep, job).c_str(),
+    std::printf("%-22s %-5llu %-9s %-34s %-6s %s%9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
+                static_cast<unsigned long long>(job.seed), job.map.c_str(), RunSettings(rep, job).c_str(),
                 ok ? "pass" : job.error.empty() ? "FAIL" : "ERROR", expect, r.value("sim_time_s", 0.0),
                 r.value("distance_m", 0.0), r.value("real_time_factor", 0.0), end.c_str());
   }
@@ -78,11 +78,16 @@ void PrintRuns(const Report& rep) {
 // With several seeds: per scenario and settings, the pass rate, the failing seeds and the spread
 // of the passing runs' times (a single run is one sample of a chaotic closed loop).
 void PrintSeeds(const Report& rep) {
-  std::printf("\n%-22s %-34s %7s %-18s %17s %9s\n", "scenario", "settings", "passed", "failed seeds", "passing sim [s]",
-              "mean RTF");
-  std::vector<std::pair<std::string, std::vector<std::string>>> groups;
+  std::printf("\n%-22s %-9s %-34s %7s %-18s %17s %9s\n", "scenario", "map", "settings", "passed", "failed seeds",
+              "passing sim [s]", "mean RTF");
+  struct Group {
+    std::string first, map;
+    std::vector<std::string> second;
+    bool operator==(const Group& o) const { return first == o.first && map == o.map && second == o.second; }
+  };
+  std::vector<Group> groups;
   for (const Job& job : rep.jobs) {
-    const std::pair<std::string, std::vector<std::string>> g{job.scenario, job.settings};
+    const Group g{job.scenario, job.map, job.settings};
     if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
   }
   for (const auto& g : groups) {
@@ -90,7 +95,7 @@ void PrintSeeds(const Report& rep) {
     double lo = 0.0, hi = 0.0, rtf = 0.0;
     std::string failed;
     for (const Job& job : rep.jobs) {
-      if (job.scenario != g.first || job.settings != g.second) continue;
+      if (job.scenario != g.first || job.map != g.map || job.settings != g.second) continue;
       ++n;
       rtf += job.result.value("real_time_factor", 0.0);
       if (!Passed(job)) {
@@ -104,7 +109,7 @@ void PrintSeeds(const Report& rep) {
     }
     char range[40] = "-";
     if (ok > 0) std::snprintf(range, sizeof(range), "%.1f-%.1f", lo, hi);
-    std::printf("%-22s %-34s %3d/%-3d %-18s %17s %9.1f\n", g.first.c_str(), SettingsLabel(g.second).c_str(), ok, n,
+    std::printf("%-22s %-9s %-34s %3d/%-3d %-18s %17s %9.1f\n", g.first.c_str(), g.map.c_str(), SettingsLabel(g.second).c_str(), ok, n,
                 failed.empty() ? "-" : failed.c_str(), range, rtf / n);
   }
 }
@@ -211,7 +216,7 @@ std::string CaseOutcome(const Report& rep, const Job& job) {
 }
 
 std::string CaseName(const Report& rep, const Job& job) {
-  const std::string settings = job.settings.empty() ? "" : " " + SettingsLabel(job.settings);
+  const std::string settings = " map=" + job.map + (job.settings.empty() ? "" : " " + SettingsLabel(job.settings));
   if (!job.draw) return "seed=" + std::to_string(job.seed) + settings;
   const scenarios::Draw& d = DrawOf(rep.families, job);
   return scenarios::DrawFolder(d.index) + " seed=" + std::to_string(job.seed) + " " + scenarios::DrawValuesLabel(d) + settings +
@@ -243,7 +248,7 @@ void WriteSummary(const Report& rep, std::size_t passed) {
   nlohmann::json runs = nlohmann::json::array();
   std::size_t errors = 0;
   for (const Job& job : rep.jobs) {
-    runs.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"settings", job.settings},
+    runs.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"map", job.map}, {"settings", job.settings},
                     {"passed", Passed(job)}, {"exit_code", job.exit_code}, {"out", job.out_dir}, {"result", job.result}});
     if (!job.error.empty()) runs.back()["error"] = job.error, ++errors;
     if (job.draw) runs.back()["family"] = DrawJson(rep.families, *job.draw);

@@ -49,6 +49,7 @@ StageStats StageTimer::Stats() const {
   s.mean_ms = s.total_ms / v.size();
   s.median_ms = v[v.size() / 2];
   s.p90_ms = v[std::min(v.size() - 1, v.size() * 9 / 10)];
+  s.p99_ms = v[std::min(v.size() - 1, v.size() * 99 / 100)];
   s.max_ms = v.back();
   return s;
 }
@@ -78,6 +79,8 @@ void Navigator::Config::Validate() const {
   buffer.Validate();
   preparation.Validate();
   ovpc.Validate();
+  octomap.Validate();
+  elevation.Validate();
   planner.Validate();
   local_goal.Validate();
   replan.Validate();
@@ -96,7 +99,30 @@ Navigator::Config Navigator::Config::Derived() const {
   c.planner.turning_radius_m = vehicle.turning_radius_m;
   c.follower.wheelbase_m = vehicle.wheelbase_m;
   c.follower.max_steering_rad = DegToRad(vehicle.max_steering_deg);
+  for (backends::ColumnMap::Config* m : {&c.octomap.map, &c.elevation.map}) {
+    m->alpha_max_rad = ovpc.mapper.traversability.alpha_max_rad;
+    m->delta_h_max_m = ovpc.mapper.traversability.delta_h_max_m;
+  }
   return c;
+}
+
+const char* MapKindName(Navigator::Config::MapKind kind) {
+  switch (kind) {
+    case Navigator::Config::MapKind::kOvpc: return "ovpc";
+    case Navigator::Config::MapKind::kOctoMap: return "octomap";
+    case Navigator::Config::MapKind::kElevation: return "elevation";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<MapBackend> MakeMapBackend(const Navigator::Config& config) {
+  const Navigator::Config c = config.Derived();
+  switch (c.map) {
+    case Navigator::Config::MapKind::kOctoMap: return std::make_unique<OctoMapBackend>(c.octomap);
+    case Navigator::Config::MapKind::kElevation: return std::make_unique<ElevationMapBackend>(c.elevation);
+    case Navigator::Config::MapKind::kOvpc: break;
+  }
+  return std::make_unique<OvpcMapBackend>(c.ovpc);
 }
 
 Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins)
@@ -106,7 +132,7 @@ Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O,
   for (const auto& p : route_O_) {
     if (!p.allFinite()) throw std::invalid_argument("navigator: a route waypoint is not finite");
   }
-  backend_ = plugins.map ? std::move(plugins.map) : std::make_unique<OvpcMapBackend>(config_.ovpc);
+  backend_ = plugins.map ? std::move(plugins.map) : MakeMapBackend(config_);
   planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner);
   follower_ = plugins.follower ? std::move(plugins.follower) : std::make_unique<PurePursuitFollower>(config_.follower);
   next_map_s_ = 1.0 / config_.map_rate_hz;
@@ -191,6 +217,11 @@ void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
   std::shared_ptr<const planner::PlanningMap> map = backend_->Update(cloud.points_L, context);
   record.map_ms = MsSince(t);
   t_mapper_.Add(record.map_ms);
+  for (const MapStageTime& stage : backend_->StageTimes()) {
+    auto it = std::find_if(t_map_stages_.begin(), t_map_stages_.end(), [&](const auto& s) { return s.first == stage.name; });
+    if (it == t_map_stages_.end()) it = t_map_stages_.insert(t_map_stages_.end(), {stage.name, StageTimer{}});
+    it->second.Add(stage.ms);
+  }
   ++stats_.map_updates;
   if (!map) {
     ++stats_.map_failures;
@@ -378,6 +409,7 @@ void Navigator::ClearRecords() {
   plan_log_.clear();
   cycles_.clear();
   t_buffer_ = t_mapper_ = t_planner_ = t_controller_ = StageTimer{};
+  t_map_stages_.clear();
 }
 
 NavigatorStats Navigator::stats() const {
@@ -386,6 +418,7 @@ NavigatorStats Navigator::stats() const {
   s.mapper = t_mapper_.Stats();
   s.planner = t_planner_.Stats();
   s.controller = t_controller_.Stats();
+  for (const auto& [name, timer] : t_map_stages_) s.map_stages.emplace_back(name, timer.Stats());
   return s;
 }
 

@@ -32,6 +32,8 @@ void CopyStats(const navigation::Navigator& nav, RunResult* result) {
   result->mapper = s.mapper;
   result->planner = s.planner;
   result->controller = s.controller;
+  result->map_stages = s.map_stages;
+  result->map_backend = nav.map_backend().name();
   result->cycles = nav.cycles();
 }
 

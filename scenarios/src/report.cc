@@ -20,7 +20,7 @@ namespace {
 
 nlohmann::json StageJson(const StageStats& s) {
   return {{"calls", s.calls}, {"mean_ms", s.mean_ms}, {"median_ms", s.median_ms},
-          {"p90_ms", s.p90_ms}, {"max_ms", s.max_ms}, {"total_ms", s.total_ms}};
+          {"p90_ms", s.p90_ms}, {"p99_ms", s.p99_ms}, {"max_ms", s.max_ms}, {"total_ms", s.total_ms}};
 }
 
 double Yaw(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
@@ -104,8 +104,8 @@ std::string FormatScorecard(const Scenario& scenario, const RunResult& r) {
   out << std::fixed << std::setprecision(1) << "simulated " << r.sim_time_s << " s in " << r.wall_time_s
       << " s wall (" << r.real_time_factor << "x real time), driven " << r.distance_m << " m, route progress "
       << r.route_progress_m << " / " << r.route_length_m << " m, " << r.replans_found << " plans found of "
-      << r.plans << ", " << r.map_updates << " map updates (median " << std::setprecision(2) << r.mapper.median_ms
-      << " ms)\n";
+      << r.plans << ", " << r.map_updates << " map updates (" << r.map_backend << ", median " << std::setprecision(2)
+      << r.mapper.median_ms << " ms)\n";
   out << "diagnosis: " << Diagnose(r).summary << "\n";
   return out.str();
 }
@@ -115,8 +115,11 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
   for (const auto& c : r.criteria) {
     criteria.push_back({{"name", c.name}, {"expected", c.expected}, {"actual", c.actual}, {"passed", c.passed}});
   }
+  nlohmann::json map_stages = nlohmann::json::object();
+  for (const auto& [name, stats] : r.map_stages) map_stages[name] = StageJson(stats);
   const nlohmann::json j = {
       {"scenario", scenario.name},
+      {"map", r.map_backend},
       {"file", scenario.path},
       {"seed", r.seed},
       {"passed", r.passed},
@@ -140,7 +143,8 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
       {"diagnosis", DiagnosisJson(Diagnose(r))},
       {"timing", {{"physics_lidar", StageJson(r.physics_lidar)},
                   {"buffer", StageJson(r.buffer)},
-                  {"ovpc_update", StageJson(r.mapper)},
+                  {"map_update", StageJson(r.mapper)},
+                  {"map_stages", map_stages},
                   {"planning", StageJson(r.planner)},
                   {"control", StageJson(r.controller)}}},
   };

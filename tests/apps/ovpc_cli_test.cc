@@ -159,6 +159,10 @@ TEST_F(CliTest, BadInputGivesOneLineAndExitCode2) {
       {"mesh " + Path("zero.bin") + " --viewpoint 0,0,0", "not a regular file"},
       {"mesh " + Path("nuscenes.bin") + " --viewpoint 0,0,0", "wrong --bin-fields"},
       {"mesh " + Path("kitti.bin") + " --viewpoint 0,0,0 --bin-fields 5", "wrong --bin-fields"},
+      // The map backend.
+      {"run " + missing + " --map voxels", "--map must be ovpc, octomap or elevation, got 'voxels'"},
+      {"suite " + missing + " --map voxels", "--map must be ovpc, octomap or elevation, got 'voxels'"},
+      {"suite " + missing + " --map octomap --sweep navigator.map=ovpc,elevation", "give one"},
   };
   ASSERT_EQ(::mkfifo(Path("fifo.xyz").c_str(), 0600), 0);
   fs::create_symlink("/dev/zero", Path("zero.bin"));
@@ -259,6 +263,41 @@ TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("broken.yaml:2: unknown key 'navigator.follower.target_speed'"), std::string::npos) << bad.err;
   EXPECT_EQ(Run("run " + Path("short.yaml") + " --preset " + Path("nothing.yaml")).exit_code, 2);
+}
+
+// The map backend is chosen by --map or navigator.map, recorded with its stage timings, and named
+// per run by the suite.
+TEST_F(CliTest, TheMapBackendIsChosenRecordedAndNamedPerRun) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  const RunResult run = Run("run " + Path("short.yaml") + " --map elevation -q --out " + Path("elevation"));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const nlohmann::json result = nlohmann::json::parse(ReadAll(Path("elevation/result.json")));
+  EXPECT_EQ(result["map"], "elevation");
+  EXPECT_EQ(result["config"]["navigator"]["map"], "elevation");
+  EXPECT_EQ(result["config"]["navigator"]["elevation"]["grid"]["resolution_m"], 0.1);
+  for (const char* stage : {"fuse", "columns", "traversability"}) {
+    EXPECT_GT(result["timing"]["map_stages"][stage]["calls"].get<int>(), 10) << stage;
+  }
+  EXPECT_GT(result["timing"]["map_update"]["p99_ms"].get<double>(), 0.0);
+
+  const RunResult bad = Run("run " + Path("short.yaml") + " --set navigator.map=lidar");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
+  EXPECT_NE(bad.err.find("'navigator.map' must be ovpc or octomap or elevation, got 'lidar'"), std::string::npos) << bad.err;
+
+  const RunResult suite = Run("suite " + Path("short.yaml") + " -j 2 --sweep navigator.map=ovpc,octomap"
+                              " --sweep navigator.octomap.resolution_m=0.3 --out " + Path("suite"));
+  ASSERT_EQ(suite.exit_code, 0) << suite.out << suite.err;
+  EXPECT_NE(suite.out.find(" octomap "), std::string::npos) << suite.out;
+  const std::string junit = ReadAll(Path("suite/junit.xml"));
+  EXPECT_NE(junit.find("name=\"seed=1 map=ovpc navigator.map=ovpc"), std::string::npos) << junit;
+  EXPECT_NE(junit.find("name=\"seed=1 map=octomap navigator.map=octomap"), std::string::npos) << junit;
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("suite/summary.json")));
+  ASSERT_EQ(summary["runs"].size(), 2u);
+  EXPECT_EQ(summary["runs"][0]["map"], "ovpc");
+  EXPECT_EQ(summary["runs"][1]["map"], "octomap");
+  EXPECT_EQ(summary["runs"][1]["result"]["map"], "octomap");
+  EXPECT_TRUE(summary["runs"][1]["result"]["timing"]["map_stages"].contains("insert"));
 }
 
 // A suite never loses its report: a malformed file is an error of its own and the others run; a run

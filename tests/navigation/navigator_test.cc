@@ -3,6 +3,7 @@
 #include "ovpc/navigation/navigator.h"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -275,12 +276,66 @@ TEST(NavigatorTest, APluginsOddAnswersAndATimeJumpNeitherCrashNorHang) {
   EXPECT_EQ(nav.stats().map_updates, 4u) << "counters are kept";
 }
 
+// The comparison backends by name: each maps the scans (free ground ahead, the post in the way),
+// plans on the map and times its stages; their slope and step thresholds are the OVPC face test's.
+TEST(NavigatorTest, TheConfiguredMapBackendMapsPlansAndTimesItsStages) {
+  const struct {
+    Navigator::Config::MapKind kind;
+    const char* name;
+    std::vector<std::string> stages;
+  } cases[] = {
+      {Navigator::Config::MapKind::kOvpc, "ovpc", {"sanitize", "transform", "hull", "mesh", "traversability", "vertex_cloud", "planning_map"}},
+      {Navigator::Config::MapKind::kOctoMap, "octomap", {"insert", "columns", "traversability"}},
+      {Navigator::Config::MapKind::kElevation, "elevation", {"fuse", "columns", "traversability"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    Navigator::Config config = FlatConfig();
+    config.map = c.kind;
+    config.ovpc.mapper.traversability.alpha_max_rad = DegToRad(25.0);
+    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}});
+    EXPECT_STREQ(nav.map_backend().name(), c.name);
+    EXPECT_STREQ(MapKindName(c.kind), c.name);
+    FirstCycle(&nav, FlatGroundScans(1));
+    ASSERT_EQ(nav.cycles().size(), 1u);
+    EXPECT_TRUE(nav.cycles()[0].map_ok);
+    EXPECT_FALSE(nav.plan_log().empty()) << "a plan was tried on the map";
+    // The map it planned on: free ground ahead of the vehicle, the post at (9, 3) in the way.
+    ASSERT_NE(nav.map(), nullptr);
+    const planner::VehicleBox& box = nav.config().planner.vehicle;
+    EXPECT_EQ(planner::CheckPose(*nav.map(), box, Pose2{3.0, 0.0, 0.0}), planner::PoseCheck::kValid);
+    EXPECT_NE(planner::CheckPose(*nav.map(), box, Pose2{7.5, 3.0, 0.0}), planner::PoseCheck::kValid);
+    EXPECT_EQ(planner::CheckPose(*nav.map(), box, Pose2{7.5, -3.0, 0.0}), planner::PoseCheck::kValid) << "no post there";
+    const NavigatorStats stats = nav.stats();
+    ASSERT_EQ(stats.map_stages.size(), c.stages.size());
+    for (std::size_t i = 0; i < c.stages.size(); ++i) {
+      EXPECT_EQ(stats.map_stages[i].first, c.stages[i]);
+      EXPECT_EQ(stats.map_stages[i].second.calls, 1u);
+    }
+    const MapView view = nav.map_backend().View();
+    ASSERT_NE(view.points_L, nullptr);
+    EXPECT_GT(view.points_L->size(), 100u);
+  }
+  Navigator::Config config;
+  config.ovpc.mapper.traversability.alpha_max_rad = DegToRad(25.0);
+  config.ovpc.mapper.traversability.delta_h_max_m = 0.2;
+  const Navigator::Config derived = config.Derived();
+  EXPECT_DOUBLE_EQ(derived.octomap.map.alpha_max_rad, DegToRad(25.0));
+  EXPECT_DOUBLE_EQ(derived.elevation.map.delta_h_max_m, 0.2);
+}
+
 TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   Navigator::Config config;
   config.map_rate_hz = 0.0;
   EXPECT_THROW(Navigator(config, {{0.0, 0.0}}), std::invalid_argument);
   EXPECT_THROW(Navigator(Navigator::Config{}, {}), std::invalid_argument);
   EXPECT_THROW(Navigator(Navigator::Config{}, {{0.0, std::nan("")}}), std::invalid_argument);
+  Navigator::Config octomap;
+  octomap.octomap.resolution_m = 0.0;
+  EXPECT_THROW(Navigator(octomap, {{0.0, 0.0}}), std::invalid_argument) << "checked whichever backend runs";
+  Navigator::Config elevation;
+  elevation.elevation.map.normal_radius_m = -1.0;
+  EXPECT_THROW(Navigator(elevation, {{0.0, 0.0}}), std::invalid_argument);
 }
 
 }  // namespace

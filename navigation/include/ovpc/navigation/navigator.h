@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -33,6 +34,7 @@ struct StageStats {
   double mean_ms = 0.0;
   double median_ms = 0.0;
   double p90_ms = 0.0;
+  double p99_ms = 0.0;
   double max_ms = 0.0;
   double total_ms = 0.0;
 };
@@ -82,6 +84,8 @@ struct NavigatorStats {
   std::size_t replans_found = 0;     ///< plans that gave a new path
   std::map<std::string, std::size_t> plan_outcomes;
   StageStats buffer, mapper, planner, controller;
+  /// The map backend's update per stage (MapBackend::StageTimes), in the backend's order.
+  std::vector<std::pair<std::string, StageStats>> map_stages;
 };
 
 /// The robot's stack. Inputs are what a robot has: LiDAR scans with their odometry poses, the
@@ -100,7 +104,15 @@ class Navigator {
     VehicleModel vehicle;
     PointCloudBuffer::Config buffer;
     MapPreparation::Config preparation;
+    /// The map backend the navigator makes when no plug-in is given.
+    enum class MapKind { kOvpc, kOctoMap, kElevation };
+    MapKind map = MapKind::kOvpc;
     OvpcMapBackend::Config ovpc;     ///< the default map backend
+    /// The comparison backends (docs/BACKENDS.md). Their traversability thresholds are derived from
+    /// ovpc.mapper.traversability (alpha_max_rad, delta_h_max_m), so that every backend judges
+    /// slopes and steps alike.
+    OctoMapBackend::Config octomap;
+    ElevationMapBackend::Config elevation;
     /// The default planner. Its vehicle box's geometry (length, width, height, centre, wheelbase,
     /// track) and turning radius are derived from `vehicle`; the box's rules are set here.
     planner::LocalPlanner::Config planner;
@@ -136,8 +148,8 @@ class Navigator {
     Config Derived() const;
   };
 
-  /// Plug-ins; a null one is the default (OvpcMapBackend, RrtConnectPlanner, PurePursuitFollower
-  /// from the config).
+  /// Plug-ins; a null one is the default (the backend Config::map names, RrtConnectPlanner,
+  /// PurePursuitFollower from the config).
   struct Plugins {
     std::unique_ptr<MapBackend> map;
     std::unique_ptr<PathPlanner> planner;
@@ -228,7 +240,14 @@ class Navigator {
   std::vector<PlanAttempt> plan_log_;
   std::vector<CycleRecord> cycles_;
   StageTimer t_buffer_, t_mapper_, t_planner_, t_controller_;
+  std::vector<std::pair<std::string, StageTimer>> t_map_stages_;
 };
+
+/// "ovpc", "octomap" or "elevation".
+const char* MapKindName(Navigator::Config::MapKind kind);
+/// The map backend `config.map` names, made from its section of `config` (geometry derived).
+/// @throws std::invalid_argument for an invalid config.
+std::unique_ptr<MapBackend> MakeMapBackend(const Navigator::Config& config);
 
 /// The pose's planar part: position and the heading of its x axis.
 planner::Pose2 ToPose2(const Eigen::Isometry3d& T);

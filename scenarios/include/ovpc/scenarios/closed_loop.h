@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ovpc/scenarios/scenario.h"
@@ -78,6 +79,8 @@ struct RunResult {
   std::vector<MapPoint> map_points;     ///< the maps' points over the run (subsampled), world frame
   std::vector<std::string> files;       ///< files written (mesh snapshots, frames)
   StageStats physics_lidar, buffer, mapper, planner, controller;
+  std::string map_backend;  ///< the map backend's name ("ovpc", "octomap", "elevation", a plug-in's)
+  std::vector<std::pair<std::string, StageStats>> map_stages;  ///< its update per stage
 };
 
 struct RunOptions {
