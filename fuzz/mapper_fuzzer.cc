@@ -72,7 +72,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const ovpc::OvpcMapper mapper(config);
   const ovpc::OvpcMap map = mapper.Update(points, viewpoint);
   if (map.input.input != points.size()) Finding("input count differs from the points given");
-  if (map.input.non_finite + map.input.at_viewpoint + map.input.used != map.input.input) {
+  if (!viewpoint.allFinite()) {
+    // Refused before any point is looked at.
+    if (map.status != ovpc::GhprStatus::kDegenerate) Finding("a non-finite viewpoint was not refused");
+  } else if (map.input.non_finite + map.input.at_viewpoint + map.input.too_far + map.input.used != map.input.input) {
     Finding("input counts do not add up");
   }
   if (map.ok()) {
