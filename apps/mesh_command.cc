@@ -131,9 +131,9 @@ int RunMesh(const MeshOptions& o) {
   if (!map.ok()) {
     std::ostringstream msg;
     msg << o.cloud_path << ": " << map.message;
-    if (map.input.non_finite + map.input.at_viewpoint > 0) {
-      msg << " (" << map.input.non_finite + non_finite_before_buffer << " NaN/inf and " << map.input.at_viewpoint
-          << " viewpoint points dropped)";
+    if (map.input.non_finite + map.input.at_viewpoint + map.input.too_far > 0) {
+      msg << " (" << map.input.non_finite + non_finite_before_buffer << " NaN/inf, " << map.input.at_viewpoint
+          << " viewpoint and " << map.input.too_far << " beyond 1e12 m points dropped)";
     }
     throw BadInput(msg.str());
   }
@@ -149,7 +149,8 @@ int RunMesh(const MeshOptions& o) {
   if (!o.quiet) {
     std::printf("cloud              %s\n", o.cloud_path.c_str());
     std::printf("input points       %zu\n", raw.size());
-    std::printf("dropped            %zu NaN/inf, %zu at the viewpoint\n", non_finite, map.input.at_viewpoint);
+    std::printf("dropped            %zu NaN/inf, %zu at the viewpoint, %zu beyond 1e12 m\n", non_finite,
+                map.input.at_viewpoint, map.input.too_far);
     if (buffer) {
       std::printf("buffer stage       %zu voxels kept, %zu points in sparse voxels dropped, %zu subsampled out\n",
                   buffer_stats.voxels_kept, buffer_stats.voxel_sparse, buffer_stats.subsampled_out);
@@ -191,6 +192,7 @@ int RunMesh(const MeshOptions& o) {
         {"input_points", raw.size()},
         {"dropped_non_finite", non_finite},
         {"dropped_at_viewpoint", map.input.at_viewpoint},
+        {"dropped_too_far", map.input.too_far},
         {"points_after_filtering", map.input.used},
         {"visible_points", map.cloud.size()},
         {"faces", map.mesh.triangles.size()},

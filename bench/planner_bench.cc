@@ -63,7 +63,7 @@ void BM_Plan(benchmark::State& state) {
     const auto start = Clock::now();
     const planner::PlanResult result = planner.Plan(map, scene.spec.start, scene.spec.goal);
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-    benchmark::DoNotOptimize(result.path.segments.data());
+    benchmark::DoNotOptimize(result.path.segments().data());
     found += result.found();
     iterations += result.iterations;
   }

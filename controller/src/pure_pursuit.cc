@@ -46,14 +46,14 @@ PurePursuit::PurePursuit(const Config& config, planner::Path path) : config_(con
   config_.Validate();
   // Drop degenerate segments; a path without a segment of two poses is already done.
   std::vector<planner::PathSegment> kept;
-  for (planner::PathSegment& s : path_.segments) {
-    if (s.poses.size() >= 2 && s.Length() > 1e-6) kept.push_back(std::move(s));
+  for (const planner::PathSegment& s : path_.segments()) {
+    if (s.poses.size() >= 2 && s.Length() > 1e-6) kept.push_back(s);
   }
-  path_.segments = std::move(kept);
-  done_ = path_.segments.empty();
+  path_ = planner::Path(std::move(kept));
+  done_ = path_.empty();
   segment_ = 0;
   if (!done_) {
-    const auto& poses = path_.segments.front().poses;
+    const auto& poses = path_.segments().front().poses;
     arc_m_.assign(poses.size(), 0.0);
     for (std::size_t i = 1; i < poses.size(); ++i) {
       arc_m_[i] = arc_m_[i - 1] + (Position(poses[i]) - Position(poses[i - 1])).norm();
@@ -62,7 +62,7 @@ PurePursuit::PurePursuit(const Config& config, planner::Path path) : config_(con
 }
 
 double PurePursuit::Project(const Eigen::Vector2d& position) {
-  const auto& poses = path_.segments[segment_].poses;
+  const auto& poses = path_.segments()[segment_].poses;
   const double window_end = arc_m_[progress_] + config_.lookahead_max_m + 2.0;
   double best_distance = std::numeric_limits<double>::infinity();
   double best_s = arc_m_[progress_];
@@ -84,7 +84,7 @@ double PurePursuit::Project(const Eigen::Vector2d& position) {
 }
 
 Eigen::Vector2d PurePursuit::PointAt(double s) const {
-  const auto& poses = path_.segments[segment_].poses;
+  const auto& poses = path_.segments()[segment_].poses;
   const std::size_t n = poses.size();
   if (s >= arc_m_.back()) {
     // Past the end: continue along the direction of travel of the last piece, so that the vehicle
@@ -119,21 +119,21 @@ Command PurePursuit::Update(const planner::Pose2& pose, double speed_mps, std::o
       command.steering_rad = last_steering_rad_;
       return command;
     }
-    if (segment_ + 1 >= path_.segments.size()) {
+    if (segment_ + 1 >= path_.segments().size()) {
       done_ = true;
       command.done = true;
       return command;
     }
     ++segment_;
     progress_ = 0;
-    const auto& next = path_.segments[segment_].poses;
+    const auto& next = path_.segments()[segment_].poses;
     arc_m_.assign(next.size(), 0.0);
     for (std::size_t i = 1; i < next.size(); ++i) {
       arc_m_[i] = arc_m_[i - 1] + (Position(next[i]) - Position(next[i - 1])).norm();
     }
   }
 
-  const bool forward = path_.segments[segment_].direction == planner::Direction::kForward;
+  const bool forward = path_.segments()[segment_].direction == planner::Direction::kForward;
   const double lookahead = std::clamp(config_.lookahead_gain_s * std::abs(speed_mps) + config_.lookahead_min_m,
                                       config_.lookahead_min_m, config_.lookahead_max_m);
   const Eigen::Vector2d offset_L = PointAt(s + lookahead) - position;

@@ -130,20 +130,26 @@ bool FastHullWithoutDuplicates(const Points& images, Scratch* s, std::vector<int
 }  // namespace
 
 void Ghpr::Config::Validate() const {
+  // %g: a rejected 1e300 is one short line, not 301 digits.
+  const auto shown = [](double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  };
   if (!std::isfinite(gamma)) throw std::invalid_argument("Ghpr::Config: gamma must be finite");
   // Bounds that keep the image transform well conditioned: past them the image points collapse or
   // overflow and the hull takes minutes (gamma = -300: 74 s) for a meaningless map.
   if (kernel == GhprKernel::kExponential && !(gamma < 0.0 && gamma >= -1.0)) {
     throw std::invalid_argument("Ghpr::Config: the exponential kernel needs gamma in [-1, 0) (paper: -0.03), got " +
-                                std::to_string(gamma));
+                                shown(gamma));
   }
   if (kernel == GhprKernel::kLinear && gamma > 1e7) {
-    throw std::invalid_argument("Ghpr::Config: the linear kernel needs gamma at most 1e7 m, got " + std::to_string(gamma));
+    throw std::invalid_argument("Ghpr::Config: the linear kernel needs gamma at most 1e7 m, got " + shown(gamma));
   }
   if (kernel == GhprKernel::kLinear && !(gamma > 0.0)) {
     throw std::invalid_argument(
         "Ghpr::Config: the linear kernel needs gamma > 0 and larger than the farthest point's distance, got " +
-        std::to_string(gamma));
+        shown(gamma));
   }
 }
 
@@ -188,6 +194,9 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
   for (std::size_t i = 0; i < n; ++i) {
     if (!points[i].allFinite()) throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is not finite");
     const Vec3 rel = points[i] - viewpoint;
+    if (!(rel.cwiseAbs().maxCoeff() <= kGhprMaxDistanceM)) {
+      throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is farther than 1e12 m from the viewpoint");
+    }
     const double d = rel.norm();
     if (!(d >= kMinDistanceM)) {
       throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is at the viewpoint");

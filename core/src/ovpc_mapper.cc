@@ -42,6 +42,8 @@ OvpcMap OvpcMapper::Update(const Points& points, const Vec3& viewpoint) const {
   for (const Vec3& p : points) {
     if (!p.allFinite()) {
       ++map.input.non_finite;
+    } else if (!((p - viewpoint).cwiseAbs().maxCoeff() <= kGhprMaxDistanceM)) {
+      ++map.input.too_far;
     } else if ((p - viewpoint).squaredNorm() < min_range2) {
       ++map.input.at_viewpoint;
     } else {

@@ -736,7 +736,10 @@ CloudFormat FormatFromExtension(const std::string& path) {
   return CloudFormat::kAuto;
 }
 
-Points ReadCloud(const std::string& path, CloudFormat format, int bin_fields) {
+namespace {
+
+// The format to read `path` as, or a CloudIoError naming the file; bin_fields checked first.
+CloudFormat ResolveFormat(const std::string& path, CloudFormat format, int bin_fields) {
   if (bin_fields != 4 && bin_fields != 5) Fail(path, "a .bin record has 4 or 5 float32 fields, not " + std::to_string(bin_fields));
   if (format == CloudFormat::kAuto) format = FormatFromExtension(path);
   if (format == CloudFormat::kAuto) {
@@ -745,13 +748,29 @@ Points ReadCloud(const std::string& path, CloudFormat format, int bin_fields) {
     Fail(path, ext.empty() ? "unknown point cloud format (no extension; " + expected
                            : "unknown point cloud format " + Quote(ext) + " (" + expected);
   }
-  const std::string bytes = LoadFile(path);
+  return format;
+}
+
+Points ParseResolved(const std::string& bytes, CloudFormat format, const std::string& path, int bin_fields) {
   switch (format) {
     case CloudFormat::kPly: return ReadPly(path, bytes);
     case CloudFormat::kPcd: return ReadPcd(path, bytes);
     case CloudFormat::kKittiBin: return ReadBin(path, bytes, bin_fields);
     default: return ReadXyz(path, bytes);
   }
+}
+
+}  // namespace
+
+Points ReadCloud(const std::string& path, CloudFormat format, int bin_fields) {
+  format = ResolveFormat(path, format, bin_fields);
+  return ParseResolved(LoadFile(path), format, path, bin_fields);
+}
+
+Points ParseCloud(const std::string& bytes, CloudFormat format, const std::string& name, int bin_fields) {
+  if (bytes.size() > kMaxFileBytes) Fail(name, "larger than 2 GiB (" + std::to_string(bytes.size()) + " bytes); split the cloud");
+  format = ResolveFormat(name, format, bin_fields);
+  return ParseResolved(bytes, format, name, bin_fields);
 }
 
 void WriteCloudPly(const std::string& path, const Points& points) {

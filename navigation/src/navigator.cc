@@ -26,15 +26,7 @@ double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::
 // A path in another frame with the same axes (the map frame L and the odometry frame O differ by a
 // translation).
 planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
-  planner::Path out = path;
-  for (auto& seg : out.segments) {
-    for (auto& p : seg.poses) {
-      p.pose.x_m += offset.x();
-      p.pose.y_m += offset.y();
-      p.z_m += offset.z();
-    }
-  }
-  return out;
+  return path.Shifted(offset.x(), offset.y(), offset.z());
 }
 
 }  // namespace
@@ -272,7 +264,7 @@ bool Navigator::PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std:
                             std::size_t* blocked_index) const {
   if (!follower_->has_path() || follower_->done()) return false;
   // Poses already driven past do not count: check from the pose closest to the vehicle on.
-  const auto poses = path_O_.Poses();
+  const auto& poses = path_O_.Poses();
   std::size_t closest = 0;
   double best = 1e300;
   const Eigen::Vector2d v(T_O_B.translation().head<2>());
@@ -297,7 +289,7 @@ bool Navigator::NewPathIsBetter(const planner::Path& new_path_L, const planner::
   const auto cost = [&](const planner::Path& p, double goal_progress_m, bool turns_round) {
     return p.Length() + config_.cusp_cost_m * (p.NumCusps() + (turns_round ? 1 : 0)) - goal_progress_m;
   };
-  const bool turns_round = new_path_L.segments.front().direction != rest.segments.front().direction;
+  const bool turns_round = new_path_L.segments().front().direction != rest.segments().front().direction;
   return cost(new_path_L, goal.route_progress_m, turns_round) <
          cost(rest, last_goal_O_->route_progress_m, false) - config_.keep_path_within_m;
 }
@@ -388,7 +380,7 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
 // A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to
 // `blocked_stop_short_m` before it, or stand still if that is where the vehicle is.
 void Navigator::KeepValidPrefix(std::size_t closest, std::size_t blocked_index) {
-  const auto poses = path_O_.Poses();
+  const auto& poses = path_O_.Poses();
   std::size_t last = blocked_index;
   double back = 0.0;
   while (last > closest && back < config_.blocked_stop_short_m) {

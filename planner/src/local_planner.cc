@@ -176,31 +176,31 @@ class MapValidityChecker : public ob::StateValidityChecker {
 
 // Appends `pose` to the path, starting a new segment at a change of direction (the cusp pose ends
 // one segment and starts the next).
-void AppendPose(const PlanningMap& map, const Pose2& pose, Direction direction, Path* path) {
+void AppendPose(const PlanningMap& map, const Pose2& pose, Direction direction, std::vector<PathSegment>* segments) {
   PathPose out{pose, 0.0};
   if (const auto ground = map.Project(pose)) out.z_m = ground->T_L_B.translation().z();
-  if (path->segments.empty()) {
-    path->segments.push_back(PathSegment{direction, {out}});
+  if (segments->empty()) {
+    segments->push_back(PathSegment{direction, {out}});
     return;
   }
-  PathSegment& last = path->segments.back();
+  PathSegment& last = segments->back();
   if (last.direction != direction) {
     if (last.poses.size() < 2) {
       last.direction = direction;  // only the start pose so far: it takes the first real direction
     } else {
-      path->segments.push_back(PathSegment{direction, {last.poses.back()}});
+      segments->push_back(PathSegment{direction, {last.poses.back()}});
     }
   }
-  path->segments.back().poses.push_back(out);
+  segments->back().poses.push_back(out);
 }
 
 // Samples the Reeds-Shepp curves between the path's vertices about every `resolution_m`, with the
 // direction of the curve piece each sample lies on.
 Path Densify(const ob::ReedsSheppStateSpace& space, const og::PathGeometric& geometric, double turning_radius_m,
              double resolution_m, const PlanningMap& map) {
-  Path path;
+  std::vector<PathSegment> path;
   const std::size_t n = geometric.getStateCount();
-  if (n == 0) return path;
+  if (n == 0) return Path();
   ob::State* sample = space.allocState();
   AppendPose(map, ToPose(geometric.getState(0)), Direction::kForward, &path);
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -225,8 +225,8 @@ Path Densify(const ob::ReedsSheppStateSpace& space, const og::PathGeometric& geo
     }
   }
   space.freeState(sample);
-  if (path.segments.size() == 1 && path.segments.front().poses.size() < 2) path.segments.clear();
-  return path;
+  if (path.size() == 1 && path.front().poses.size() < 2) path.clear();
+  return Path(std::move(path));
 }
 
 }  // namespace
@@ -373,7 +373,7 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
 
 std::optional<std::size_t> LocalPlanner::FirstInvalidPose(const PlanningMap& map, const Path& path,
                                                           std::size_t from_index) const {
-  const std::vector<PathPose> poses = path.Poses();
+  const std::vector<PathPose>& poses = path.Poses();
   for (std::size_t i = from_index; i < poses.size(); ++i) {
     if (CheckPose(map, config_.vehicle, poses[i].pose) != PoseCheck::kValid) return i;
   }

@@ -1,6 +1,7 @@
 #include "ovpc/planner/path.h"
 
 #include <cmath>
+#include <utility>
 
 namespace ovpc::planner {
 
@@ -23,38 +24,48 @@ double PathSegment::Length() const {
   return length;
 }
 
+Path::Path(std::vector<PathSegment> segments) : segments_(std::move(segments)) {
+  for (std::size_t s = 0; s < segments_.size(); ++s) {
+    const auto& poses = segments_[s].poses;
+    poses_.insert(poses_.end(), poses.begin() + (s == 0 || poses.empty() ? 0 : 1), poses.end());
+  }
+}
+
 double Path::Length() const {
   double length = 0.0;
-  for (const PathSegment& s : segments) length += s.Length();
+  for (const PathSegment& s : segments_) length += s.Length();
   return length;
 }
 
-std::vector<PathPose> Path::Poses() const {
-  std::vector<PathPose> out;
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    const auto& poses = segments[s].poses;
-    out.insert(out.end(), poses.begin() + (s == 0 || poses.empty() ? 0 : 1), poses.end());
-  }
-  return out;
-}
-
 Path Path::Slice(std::size_t first, std::size_t last) const {
-  Path out;
+  std::vector<PathSegment> out;
   std::size_t index = 0;  // Poses() index of the segment's first pose
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    const auto& poses = segments[s].poses;
+  for (std::size_t s = 0; s < segments_.size(); ++s) {
+    const auto& poses = segments_[s].poses;
     // Segment s covers Poses() indices [begin, begin + size - 1]; after the first, its first pose is
     // the previous segment's last (the cusp).
     const std::size_t begin = s == 0 ? 0 : index - 1;
-    PathSegment piece{segments[s].direction, {}};
+    PathSegment piece{segments_[s].direction, {}};
     for (std::size_t k = 0; k < poses.size(); ++k) {
       const std::size_t i = begin + k;
       if (i >= first && i <= last) piece.poses.push_back(poses[k]);
     }
     index = begin + poses.size();
-    if (piece.poses.size() >= 2) out.segments.push_back(std::move(piece));
+    if (piece.poses.size() >= 2) out.push_back(std::move(piece));
   }
-  return out;
+  return Path(std::move(out));
+}
+
+Path Path::Shifted(double dx_m, double dy_m, double dz_m) const {
+  std::vector<PathSegment> out = segments_;
+  for (PathSegment& segment : out) {
+    for (PathPose& p : segment.poses) {
+      p.pose.x_m += dx_m;
+      p.pose.y_m += dy_m;
+      p.z_m += dz_m;
+    }
+  }
+  return Path(std::move(out));
 }
 
 }  // namespace ovpc::planner

@@ -205,9 +205,13 @@ Value DrawValue(const Parameter& p, std::uint64_t seed, std::size_t index) {
 }
 
 std::size_t GridPoints(const Family& family) {
+  // Saturates: 64 grid parameters of two values each wrapped to 0 grid points (no draws, silently).
+  constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
   std::size_t n = 1;
   for (const Parameter& p : family.parameters) {
-    if (p.distribution.kind == Distribution::Kind::kGrid) n *= p.distribution.values.size();
+    if (p.distribution.kind != Distribution::Kind::kGrid) continue;
+    const std::size_t k = p.distribution.values.size();
+    n = k != 0 && n > kMax / k ? kMax : n * k;
   }
   return n;
 }
@@ -215,7 +219,7 @@ std::size_t GridPoints(const Family& family) {
 std::vector<Draw> DrawFamily(const Family& family, const DrawOptions& options, const Preset& preset) {
   if (options.samples < 1) throw ScenarioError(family.path + ": the number of samples must be at least 1");
   const std::size_t points = GridPoints(family);
-  if (points > kMaxDraws || points * options.samples > kMaxDraws) {
+  if (points > kMaxDraws || options.samples > kMaxDraws || points * options.samples > kMaxDraws) {
     throw ScenarioError(family.path + ": " + std::to_string(points) + " grid points × " + std::to_string(options.samples) +
                         " samples is more than " + std::to_string(kMaxDraws) + " draws");
   }

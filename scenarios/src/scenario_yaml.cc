@@ -16,6 +16,25 @@
 #include "ovpc/scenarios/closed_loop.h"
 
 namespace ovpc::scenarios {
+
+ScenarioError::ScenarioError(const std::string& what)
+    : std::runtime_error([&what] {
+        std::string line;
+        line.reserve(what.size());
+        for (const char c : what) {
+          const auto u = static_cast<unsigned char>(c);
+          if (u < 0x20 || u == 0x7f) {
+            constexpr char kHex[] = "0123456789abcdef";
+            line += "\\x";
+            line += kHex[u >> 4];
+            line += kHex[u & 15];
+          } else {
+            line += c;
+          }
+        }
+        return line;
+      }()) {}
+
 namespace {
 
 using internal::ConfigReader;

@@ -3,7 +3,8 @@
 # build type. Fails on the first step that fails; the work directory is removed on success.
 #
 # -D variables: OVPC_BINARY_DIR (the build tree), CONSUMER_SOURCE_DIR, WORK_DIR (a parent for the
-# test's own directory), CONFIG, GENERATOR, CXX_COMPILER, optional CXX_COMPILER_LAUNCHER.
+# test's own directory), CONFIG, GENERATOR, CXX_COMPILER, optional CXX_COMPILER_LAUNCHER and SANITIZE
+# (the build's OVPC_SANITIZE: the consumer is built with the same sanitizers, or it would not link).
 foreach(var IN ITEMS OVPC_BINARY_DIR CONSUMER_SOURCE_DIR WORK_DIR CONFIG GENERATOR CXX_COMPILER)
   if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
     message(FATAL_ERROR "run_consumer_test.cmake: -D${var}=... is required")
@@ -32,9 +33,14 @@ set(launcher)
 if(CXX_COMPILER_LAUNCHER)
   set(launcher "-DCMAKE_CXX_COMPILER_LAUNCHER=${CXX_COMPILER_LAUNCHER}")
 endif()
+set(sanitize)
+if(SANITIZE)
+  set(sanitize "-DCMAKE_CXX_FLAGS=-fsanitize=${SANITIZE} -fno-sanitize-recover=all"
+               "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=${SANITIZE}")
+endif()
 step("configure the consumer"
      "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}" -B "${dir}/build" -G "${GENERATOR}"
-     "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" ${launcher}
+     "-DCMAKE_BUILD_TYPE=${CONFIG}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" ${launcher} ${sanitize}
      "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
      # The empty generator expression keeps multi-config generators from adding a per-config folder.
      "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=${dir}/bin/$<0:>")

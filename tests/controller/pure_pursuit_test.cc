@@ -24,8 +24,7 @@ double Last(const std::vector<Step>& log, const Eigen::Vector2d& goal) {
 }
 
 TEST(PurePursuitTest, SettlesOnAStraightLineAndStopsAtItsEnd) {
-  Path path;
-  path.segments.push_back(Straight(Direction::kForward, {0.0, 0.0}, {40.0, 0.0}));
+  const Path path({Straight(Direction::kForward, {0.0, 0.0}, {40.0, 0.0})});
   const std::vector<Step> log = Follow(path, At(0.0, 0.6, 0.2), 90.0);  // off the line and askew
   ASSERT_TRUE(log.back().command.done);
   double max_error = 0.0, max_speed = 0.0;
@@ -41,8 +40,7 @@ TEST(PurePursuitTest, SettlesOnAStraightLineAndStopsAtItsEnd) {
 }
 
 TEST(PurePursuitTest, SettlesOnA6mCircle) {
-  Path path;
-  path.segments.push_back(Arc(Direction::kForward, {0.0, 6.0}, 6.0, -kPi / 2, 2.5 * kPi));
+  const Path path({Arc(Direction::kForward, {0.0, 6.0}, 6.0, -kPi / 2, 2.5 * kPi)});
   const std::vector<Step> log = Follow(path, At(0.0, -0.3, 0.0), 80.0);
   ASSERT_TRUE(log.back().command.done);
   const auto poses = path.Poses();
@@ -61,7 +59,6 @@ TEST(PurePursuitTest, SettlesOnA6mCircle) {
 TEST(PurePursuitTest, FollowsAReverseSegmentBackwards) {
   // Backing up: 3 m straight, a 45 deg arc of radius 8 m to the left (seen in the direction of
   // travel), 3 m straight.
-  Path path;
   PathSegment reverse{Direction::kReverse, {}};
   for (const PathSegment& piece : {Straight(Direction::kReverse, {0.0, 0.0}, {-3.0, 0.0}),
                                    Arc(Direction::kReverse, {-3.0, -8.0}, 8.0, kPi / 2, kPi / 4)}) {
@@ -72,7 +69,7 @@ TEST(PurePursuitTest, FollowsAReverseSegmentBackwards) {
   const Eigen::Vector2d away = arc_end + 3.0 * Eigen::Vector2d(-std::cos(kPi / 4), -std::sin(kPi / 4));
   const PathSegment tail = Straight(Direction::kReverse, arc_end, away);
   reverse.poses.insert(reverse.poses.end(), tail.poses.begin() + 1, tail.poses.end());
-  path.segments.push_back(reverse);
+  const Path path({reverse});
   ASSERT_NEAR(reverse.poses.front().pose.yaw_rad, 0.0, 1e-6);  // facing +x, driving towards -x
 
   const std::vector<Step> log = Follow(path, At(0.0, 0.2, 0.0), 60.0);
@@ -92,10 +89,9 @@ TEST(PurePursuitTest, FollowsAReverseSegmentBackwards) {
 }
 
 TEST(PurePursuitTest, StopsAtACuspBeforeReversing) {
-  Path path;
-  path.segments.push_back(Straight(Direction::kForward, {0.0, 0.0}, {8.0, 0.0}));
-  path.segments.push_back(Arc(Direction::kReverse, {8.0, 8.0}, 8.0, -kPi / 2, -kPi / 8));
-  const Eigen::Vector2d goal(path.segments.back().poses.back().pose.x_m, path.segments.back().poses.back().pose.y_m);
+  const Path path({Straight(Direction::kForward, {0.0, 0.0}, {8.0, 0.0}),
+                   Arc(Direction::kReverse, {8.0, 8.0}, 8.0, -kPi / 2, -kPi / 8)});
+  const Eigen::Vector2d goal(path.Poses().back().pose.x_m, path.Poses().back().pose.y_m);
   const std::vector<Step> log = Follow(path, At(0.0, 0.0, 0.0), 60.0);
   ASSERT_TRUE(log.back().command.done);
   double max_x = -1e9;
@@ -115,15 +111,13 @@ TEST(PurePursuitTest, StopsAtACuspBeforeReversing) {
 }
 
 TEST(PurePursuitTest, SlowerInTightCurvesAndSteeringClamped) {
-  Path straight;
-  straight.segments.push_back(Straight(Direction::kForward, {0.0, 0.0}, {30.0, 0.0}));
+  const Path straight({Straight(Direction::kForward, {0.0, 0.0}, {30.0, 0.0})});
   PurePursuit on_straight(PurePursuit::Config{}, straight);
   const Command fast = on_straight.Update(Pose2{5.0, 0.0, 0.0}, 1.0);
   EXPECT_NEAR(fast.speed_mps, 1.0, 1e-12);
   EXPECT_NEAR(fast.steering_rad, 0.0, 1e-9);
 
-  Path tight;
-  tight.segments.push_back(Arc(Direction::kForward, {0.0, 4.0}, 4.0, -kPi / 2, kPi));
+  const Path tight({Arc(Direction::kForward, {0.0, 4.0}, 4.0, -kPi / 2, kPi)});
   PurePursuit on_tight(PurePursuit::Config{}, tight);
   const Command slow = on_tight.Update(Pose2{0.0, 0.0, 0.0}, 1.0);
   EXPECT_LT(slow.speed_mps, 0.95);
@@ -131,16 +125,14 @@ TEST(PurePursuitTest, SlowerInTightCurvesAndSteeringClamped) {
   EXPECT_GT(slow.steering_rad, 0.0);  // left
 
   // A path turning far tighter than the vehicle can: the command stays at the steering limit.
-  Path corner;
-  corner.segments.push_back(Arc(Direction::kForward, {0.0, 1.0}, 1.0, -kPi / 2, kPi / 2));
+  const Path corner({Arc(Direction::kForward, {0.0, 1.0}, 1.0, -kPi / 2, kPi / 2)});
   PurePursuit on_corner(PurePursuit::Config{}, corner);
   const Command clamped = on_corner.Update(Pose2{0.0, 0.0, 0.0}, 1.0);
   EXPECT_NEAR(clamped.steering_rad, PurePursuit::Config{}.max_steering_rad, 1e-12);
 }
 
 TEST(PurePursuitTest, SteersBeforeSettingOff) {
-  Path tight;
-  tight.segments.push_back(Arc(Direction::kForward, {0.0, 4.0}, 4.0, -kPi / 2, kPi / 2));
+  const Path tight({Arc(Direction::kForward, {0.0, 4.0}, 4.0, -kPi / 2, kPi / 2)});
   PurePursuit follower(PurePursuit::Config{}, tight);
   const Command wait = follower.Update(Pose2{0.0, 0.0, 0.0}, 0.0, 0.0);  // wheels straight
   EXPECT_GT(wait.steering_rad, 0.3);
@@ -153,10 +145,10 @@ TEST(PurePursuitTest, SteersBeforeSettingOff) {
 }
 
 TEST(PurePursuitTest, RepeatedPosesAreHarmless) {
-  Path path;
-  path.segments.push_back(Straight(Direction::kForward, {0.0, 0.0}, {5.0, 0.0}));
-  path.segments.back().poses.push_back(path.segments.back().poses.back());  // the end twice
-  path.segments.back().poses.insert(path.segments.back().poses.begin(), path.segments.back().poses.front());
+  PathSegment straight = Straight(Direction::kForward, {0.0, 0.0}, {5.0, 0.0});
+  straight.poses.push_back(straight.poses.back());  // the end twice
+  straight.poses.insert(straight.poses.begin(), straight.poses.front());
+  const Path path({straight});
   const std::vector<Step> log = Follow(path, At(0.0, 0.0, 0.0), 30.0);
   ASSERT_TRUE(log.back().command.done);
   for (const Step& s : log) ASSERT_TRUE(std::isfinite(s.command.steering_rad) && std::isfinite(s.command.speed_mps));

@@ -36,6 +36,39 @@ TEST(OvpcMapperTest, DropsAndCountsNonFiniteAndViewpointPoints) {
                                    t.vertex_cloud_ms);
 }
 
+TEST(OvpcMapperTest, PointsBeyondTheDistanceBoundAreDroppedAndCounted) {
+  // A tetrahedron of points 1e299 m out: their squared distance overflowed to inf, every image
+  // point became 0 and the cloud was called coplanar with the viewpoint.
+  const Points huge = {Vec3(1e299, 0, 0), Vec3(0, 1e299, 0), Vec3(0, 0, 1e299), Vec3(1e299, 1e299, 1e299)};
+  const OvpcMap far = OvpcMapper().Update(huge, Vec3::Zero());
+  EXPECT_EQ(far.status, GhprStatus::kTooFewPoints) << far.message;
+  EXPECT_EQ(far.input.too_far, 4u);
+  EXPECT_EQ(far.input.used, 0u);
+  // Far but within the bound: a real map; one point past it is dropped, the rest still map.
+  Points box;
+  for (double x : {-1e11, 1e11}) {
+    for (double y : {-1e11, 1e11}) {
+      for (double z : {-1e11, 1e11}) box.emplace_back(x, y, z);
+    }
+  }
+  box.emplace_back(2e12, 0, 0);
+  const OvpcMap map = OvpcMapper().Update(box, Vec3::Zero());
+  ASSERT_TRUE(map.ok()) << map.message;
+  EXPECT_EQ(map.input.too_far, 1u);
+  EXPECT_EQ(map.cloud.size(), 8u);
+  EXPECT_TRUE(CheckTopology(map.mesh.triangles).watertight());
+  EXPECT_THROW((void)ComputeGhpr(huge, Vec3::Zero(), Ghpr::Config{}), std::invalid_argument);
+  // A rejected gamma is named in a short line.
+  Ghpr::Config linear{GhprKernel::kLinear, 1e300};
+  try {
+    linear.Validate();
+    FAIL() << "gamma 1e300 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_LT(std::string(e.what()).size(), 120u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1e+300"), std::string::npos) << e.what();
+  }
+}
+
 TEST(OvpcMapperTest, BadCloudsGiveAStatusNotACrash) {
   const OvpcMapper mapper;
   EXPECT_EQ(mapper.Update({}, Vec3::Zero()).status, GhprStatus::kTooFewPoints);

@@ -322,6 +322,21 @@ TEST_F(CloudIoTest, XyzWithCommentsCommasAndExtraColumns) {
   ExpectPointsEq(expected, ReadCloud(WriteFile("scan.dat", text), CloudFormat::kXyz));
 }
 
+TEST_F(CloudIoTest, ParseCloudReadsBytesInMemoryLikeTheFile) {
+  const std::string text = "# two points\n1 2 3\n4,5,6\n";
+  const Points from_file = ReadCloud(WriteFile("scan.xyz", text));
+  ExpectPointsEq(from_file, ParseCloud(text, CloudFormat::kAuto, "scan.xyz"));
+  ExpectPointsEq(from_file, ParseCloud(text, CloudFormat::kXyz, "anything"));
+  try {
+    (void)ParseCloud("ply\nformat ascii 1.0\nelement vertex 2\nend_header\n", CloudFormat::kAuto, "memory.ply");
+    FAIL() << "a PLY without x, y, z was read";
+  } catch (const CloudIoError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("memory.ply: ", 0), 0u) << e.what();
+  }
+  EXPECT_THROW((void)ParseCloud(text, CloudFormat::kAuto, "no_extension"), CloudIoError);
+  EXPECT_THROW((void)ParseCloud(text, CloudFormat::kKittiBin, "scan.bin", 6), CloudIoError);
+}
+
 TEST_F(CloudIoTest, NonFiniteValuesArePreserved) {
   const double inf = std::numeric_limits<double>::infinity();
   const Points xyz = ReadCloud(WriteFile("nan.xyz", "nan inf -inf\n1 NaN 2\n"));

@@ -122,7 +122,7 @@ class StraightPlanner final : public PathPlanner {
     r.status = planner::PlanStatus::kFound;
     planner::PathSegment seg;
     seg.poses = {{start, 0.0}, {goal, 0.0}};
-    r.path.segments.push_back(seg);
+    r.path = planner::Path({seg});
     return r;
   }
   std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
@@ -176,18 +176,20 @@ class BackingUpPlanner final : public PathPlanner {
                            const std::vector<double>&) const override {
     planner::PlanResult r;
     r.status = planner::PlanStatus::kFound;
+    std::vector<planner::PathSegment> segments;
     planner::PathSegment straight;
     if (calls_++ > 0) {
       const Pose2 back{start.x_m - 1.0, start.y_m, start.yaw_rad};
       planner::PathSegment reverse;
       reverse.direction = planner::Direction::kReverse;
       reverse.poses = {{start, 0.0}, {back, 0.0}};
-      r.path.segments.push_back(reverse);
+      segments.push_back(reverse);
       straight.poses = {{back, 0.0}, {goal, 0.0}};
     } else {
       straight.poses = {{start, 0.0}, {goal, 0.0}};
     }
-    r.path.segments.push_back(straight);
+    segments.push_back(straight);
+    r.path = planner::Path(std::move(segments));
     return r;
   }
   std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,

@@ -63,14 +63,14 @@ void ExpectWellFormed(const PlanResult& result, const PlanningMap& map, const Lo
   EXPECT_NEAR(poses.back().pose.x_m, goal.x_m, 1e-3);
   EXPECT_NEAR(poses.back().pose.y_m, goal.y_m, 1e-3);
   EXPECT_NEAR(std::remainder(poses.back().pose.yaw_rad - goal.yaw_rad, 2 * kPi), 0.0, 1e-3);
-  for (std::size_t i = 0; i < result.path.segments.size(); ++i) {
-    const PathSegment& s = result.path.segments[i];
+  for (std::size_t i = 0; i < result.path.segments().size(); ++i) {
+    const PathSegment& s = result.path.segments()[i];
     EXPECT_GE(s.poses.size(), 2u);
     if (i > 0) {
       // Segments alternate direction and share the cusp pose.
-      EXPECT_NE(s.direction, result.path.segments[i - 1].direction);
-      EXPECT_EQ(s.poses.front().pose.x_m, result.path.segments[i - 1].poses.back().pose.x_m);
-      EXPECT_EQ(s.poses.front().pose.y_m, result.path.segments[i - 1].poses.back().pose.y_m);
+      EXPECT_NE(s.direction, result.path.segments()[i - 1].direction);
+      EXPECT_EQ(s.poses.front().pose.x_m, result.path.segments()[i - 1].poses.back().pose.x_m);
+      EXPECT_EQ(s.poses.front().pose.y_m, result.path.segments()[i - 1].poses.back().pose.y_m);
     }
     for (std::size_t k = 1; k < s.poses.size(); ++k) {
       const PathPose& a = s.poses[k - 1];
@@ -107,8 +107,8 @@ TEST(LocalPlannerTest, FlatGroundGivesANearStraightForwardPath) {
     const LocalPlanner planner = SeededPlanner(seed);
     const PlanResult result = planner.Plan(*Flat().map, kStart, kGoal);
     ExpectWellFormed(result, *Flat().map, planner, kStart, kGoal);
-    EXPECT_EQ(result.path.segments.size(), 1u);
-    EXPECT_EQ(result.path.segments.front().direction, Direction::kForward);
+    EXPECT_EQ(result.path.segments().size(), 1u);
+    EXPECT_EQ(result.path.segments().front().direction, Direction::kForward);
     EXPECT_LT(result.path.Length(), 1.05 * 14.0);
     double max_offset = 0.0;
     for (const PathPose& p : result.path.Poses()) max_offset = std::max(max_offset, std::abs(p.pose.y_m));
@@ -252,8 +252,8 @@ TEST(LocalPlannerTest, ReversesWhenTheGoalIsBehind) {
   const Pose2 goal{3.0, 0.0, -kPi};
   const PlanResult result = planner.Plan(*Flat().map, start, goal);
   ExpectWellFormed(result, *Flat().map, planner, start, goal);
-  ASSERT_EQ(result.path.segments.size(), 1u);
-  EXPECT_EQ(result.path.segments.front().direction, Direction::kReverse);
+  ASSERT_EQ(result.path.segments().size(), 1u);
+  EXPECT_EQ(result.path.segments().front().direction, Direction::kReverse);
   EXPECT_NEAR(result.path.Length(), 8.0, 0.05);
   EXPECT_EQ(result.path.Poses().front().pose.yaw_rad, -kPi);
 }
@@ -301,7 +301,7 @@ TEST(LocalPlannerTest, PathBlockedAfterAMapUpdateIsDetected) {
   // The same straight path on the map with posts across it.
   const auto blocked = planner.FirstInvalidPose(*Posts().map, result.path);
   ASSERT_TRUE(blocked.has_value());
-  const PathPose p = result.path.Poses()[*blocked];  // a copy: Poses() returns a temporary
+  const PathPose& p = result.path.Poses()[*blocked];  // stored poses: the reference stays valid
   // The first invalid pose is where the box front (2.45 m ahead of the rear axle) meets the posts at
   // x = -1.35, or the non-traversable ground around them (up to a metre wide here, where the posts
   // hide the ground from the viewpoint).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -186,6 +187,19 @@ TEST_F(FamilyTest, GridIsTheProductOfTheGridParametersTimesTheSamples) {
   for (const auto& [point, count] : points) EXPECT_EQ(count, 2) << point;
   EXPECT_EQ(draws[11].index, 11u);
   EXPECT_EQ(DrawFolder(draws[11].index), "draw_011");
+}
+
+TEST_F(FamilyTest, AGridTooLargeToCountIsRefusedNotWrapped) {
+  // 64 grid parameters of two values: 2^64 grid points wrapped to 0 and the family drew nothing.
+  std::string grid;
+  for (int i = 0; i < 64; ++i) grid += "  g" + std::to_string(i) + ": {grid: [1, 2]}\n";
+  const std::string text = Replaced(kFamily, "  side: {choice: [left, right]}\n", "  side: {choice: [left, right]}\n" + grid);
+  const Family f = ParseFamily(text, "fam.yaml");
+  EXPECT_EQ(GridPoints(f), std::numeric_limits<std::size_t>::max());
+  EXPECT_NE(ErrorOf(text, 1).find("draws"), std::string::npos) << ErrorOf(text, 1);
+  // Two grid points times a huge sample count wrapped to 2 draws' worth and drew for ever; refused.
+  const std::string two = Replaced(kFamily, "side: {choice: [left, right]}", "side: {grid: [left, right]}");
+  EXPECT_NE(ErrorOf(two, std::numeric_limits<std::size_t>::max() / 2 + 2).find("draws"), std::string::npos);
 }
 
 TEST_F(FamilyTest, AWrittenDrawReloadsWithTheDrawnValues) {

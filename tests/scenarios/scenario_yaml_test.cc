@@ -91,6 +91,22 @@ TEST(ScenarioYamlTest, UnknownKeysAndWrongTypesNameFileLineAndKey) {
             std::string::npos);
 }
 
+TEST(ScenarioYamlTest, ErrorsAreOneLineWhateverCharactersTheFileHolds) {
+  // A key with an escaped newline, and a backslash before a line break (yaml-cpp's message then ends
+  // in the raw newline): both gave messages of two lines.
+  std::string bad = kMinimal;
+  bad.replace(bad.find("max_scans"), 9, "\"max\\nscans\"");
+  const std::string key = ErrorOf(bad);
+  EXPECT_EQ(key.find('\n'), std::string::npos) << key;
+  EXPECT_NE(key.find("unknown key 'navigator.buffer.max\\x0ascans'"), std::string::npos) << key;
+  for (const std::string& text : {std::string("name: \"a\\\nb\"\n"), std::string("name: x\n  bumps:\x08\x00\n")}) {
+    const std::string error = ErrorOf(text);
+    EXPECT_NE(error, "") << "accepted";
+    EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+    for (const char c : error) EXPECT_GE(static_cast<unsigned char>(c), 0x20u) << error;
+  }
+}
+
 TEST(ScenarioYamlTest, MissingFileIsAnError) {
   EXPECT_THROW(LoadScenario("/nonexistent/scenario.yaml"), ScenarioError);
 }

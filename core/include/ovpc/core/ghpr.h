@@ -28,6 +28,11 @@ struct Ghpr {
   };
 };
 
+/// The farthest a point may be from the viewpoint, per coordinate, m. No sensor sees this far; beyond
+/// it the squared distances and the cross products of the mesh stages could overflow (a point at
+/// 1e299 m made d = inf and an all-zero image). OvpcMapper drops and counts such points.
+constexpr double kGhprMaxDistanceM = 1e12;
+
 const char* KernelName(GhprKernel kernel);
 /// Parses "exponential" or "linear". @throws std::invalid_argument otherwise.
 GhprKernel ParseKernel(const std::string& name);

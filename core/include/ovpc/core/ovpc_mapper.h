@@ -25,6 +25,7 @@ struct InputStats {
   std::size_t input = 0;         ///< points given
   std::size_t non_finite = 0;    ///< dropped: a coordinate was NaN or inf
   std::size_t at_viewpoint = 0;  ///< dropped: closer than Config::min_range_m to the viewpoint
+  std::size_t too_far = 0;       ///< dropped: a coordinate farther than kGhprMaxDistanceM from the viewpoint
   std::size_t used = 0;          ///< points that went into GHPR
 };
 

@@ -34,6 +34,11 @@ CloudFormat FormatFromExtension(const std::string& path);
 /// @throws CloudIoError for a missing/unreadable file, an unknown or malformed format.
 Points ReadCloud(const std::string& path, CloudFormat format = CloudFormat::kAuto, int bin_fields = 4);
 
+/// The same on the bytes of a file already in memory (tests, fuzzing): `name` stands for the file in
+/// messages and gives the format when `format` is kAuto.
+/// @throws CloudIoError for an unknown or malformed format.
+Points ParseCloud(const std::string& bytes, CloudFormat format, const std::string& name, int bin_fields = 4);
+
 /// Binary little-endian PLY with float x, y, z.
 void WriteCloudPly(const std::string& path, const Points& points);
 

@@ -39,18 +39,29 @@ struct PathSegment {
 };
 
 /// The planner's output: segments split at cusps (where the vehicle stops and changes direction).
-struct Path {
-  std::vector<PathSegment> segments;
+/// Immutable once built: the segments and the flat pose list are set together by the constructor, so
+/// Poses() is a reference to stored poses that stays valid as long as the Path does.
+class Path {
+ public:
+  Path() = default;
+  /// Consecutive segments share the cusp pose (the last pose of one is the first of the next).
+  explicit Path(std::vector<PathSegment> segments);
 
-  bool empty() const { return segments.empty(); }
+  const std::vector<PathSegment>& segments() const { return segments_; }
+  bool empty() const { return segments_.empty(); }
   double Length() const;
-  /// Every pose once, in driving order (cusp poses are not repeated). A new vector at every call:
-  /// keep it, never a reference into it.
-  std::vector<PathPose> Poses() const;
-  int NumCusps() const { return segments.empty() ? 0 : static_cast<int>(segments.size()) - 1; }
+  /// Every pose once, in driving order (cusp poses are not repeated).
+  const std::vector<PathPose>& Poses() const { return poses_; }
+  int NumCusps() const { return segments_.empty() ? 0 : static_cast<int>(segments_.size()) - 1; }
   /// The poses `first` to `last` (indices into Poses(), inclusive) with their segments and cusps; an
   /// empty path when fewer than two poses remain.
   Path Slice(std::size_t first, std::size_t last) const;
+  /// The same path with every pose moved by (dx, dy, dz) (a frame with the same axes).
+  Path Shifted(double dx_m, double dy_m, double dz_m) const;
+
+ private:
+  std::vector<PathSegment> segments_;
+  std::vector<PathPose> poses_;  ///< the segments' poses, cusps once
 };
 
 }  // namespace ovpc::planner

@@ -83,7 +83,8 @@ bool IsFamilyText(const std::string& yaml_text);
 Family ParseFamily(const std::string& yaml_text, const std::string& file);
 Family LoadFamily(const std::string& path);
 
-/// Grid points: the product of the grid parameters' value counts (1 without grid parameters).
+/// Grid points: the product of the grid parameters' value counts (1 without grid parameters),
+/// saturating at the largest std::size_t.
 std::size_t GridPoints(const Family& family);
 
 /// The value of a non-grid parameter in draw `index` of `seed`: a function of (seed, index, name)

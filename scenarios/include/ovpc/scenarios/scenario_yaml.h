@@ -14,7 +14,10 @@ namespace ovpc::scenarios {
 /// "FILE:LINE: ..." naming the key.
 class ScenarioError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  /// Control characters in `what` (from a key or value of the file, or in yaml-cpp's own message,
+  /// which can end in the raw character it could not read) are shown as \xHH, so what() is always
+  /// one line.
+  explicit ScenarioError(const std::string& what);
 };
 
 /// The robot's configuration a scenario starts from: YAML with a `navigator:` section (the keys of
