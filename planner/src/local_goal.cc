@@ -145,11 +145,11 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
     }
   }
   const auto impassable = [&state](std::size_t j) { return state[j] == kBlocked || state[j] == kOverhead; };
-  // Cells the vehicle's centre cannot be in: within half its width of a non-traversable point
-  // (measured from the point itself, not from its cell: growing whole cells would close a lane
-  // between posts 2.7 m apart that the 1.5 m vehicle fits through).
+  // Cells the vehicle's centre cannot be in: within half its width and its margin of a
+  // non-traversable point (measured from the point itself, not from its cell: growing whole cells
+  // would close a lane between posts 2.7 m apart that the 1.5 m vehicle fits through).
   std::vector<std::uint8_t> blocked(state.size(), 0);
-  const double half_width = 0.5 * vehicle.width_m;
+  const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
   const int grow = static_cast<int>(std::ceil(half_width / cell)) + 1;
   for (std::size_t k = 0; k < blocking.size(); ++k) {
     const int ix = static_cast<int>(blocking_cell[k] % nx), iy = static_cast<int>(blocking_cell[k] / nx);
