@@ -81,11 +81,20 @@ class VoxelAccumulator {
 
   /// Appends the centroids of the voxels with at least `min_hits` points to `out`, in voxel order,
   /// subsampled like Subsample(centroids, max_points, seed) without forming the dropped centroids.
-  void Extract(int min_hits, std::size_t max_points, std::uint64_t seed, Points* out, BufferStats* stats) const {
-    const auto min_count = static_cast<std::uint32_t>(min_hits);
+  /// Voxels with their centroid within near_range_m of the origin need near_min_hits instead.
+  void Extract(int min_hits, std::size_t max_points, std::uint64_t seed, Points* out, BufferStats* stats,
+               double near_range_m = 0.0, int near_min_hits = 0) const {
+    const auto far_count = static_cast<std::uint32_t>(min_hits);
+    const auto near_count = static_cast<std::uint32_t>(std::max(min_hits, near_min_hits));
+    const double near2 = near_range_m * near_range_m;
+    const auto keeps = [&](const Voxel& v) {
+      if (v.count < far_count) return false;
+      if (v.count >= near_count || near2 <= 0.0) return true;
+      return (v.sum / static_cast<double>(v.count)).squaredNorm() >= near2;
+    };
     std::size_t kept = 0, sparse = 0;
     for (const Voxel& v : voxels_) {
-      if (v.count >= min_count) {
+      if (keeps(v)) {
         ++kept;
       } else {
         sparse += v.count;
@@ -98,7 +107,7 @@ class VoxelAccumulator {
     if (kept <= max_points) {
       out->reserve(out->size() + kept);
       for (const Voxel& v : voxels_) {
-        if (v.count >= min_count) out->push_back(v.sum / static_cast<double>(v.count));
+        if (keeps(v)) out->push_back(v.sum / static_cast<double>(v.count));
       }
       return;
     }
@@ -106,7 +115,7 @@ class VoxelAccumulator {
     out->reserve(out->size() + max_points);
     std::size_t i = 0;
     for (const Voxel& v : voxels_) {
-      if (v.count < min_count) continue;
+      if (!keeps(v)) continue;
       if (keep(i++)) out->push_back(v.sum / static_cast<double>(v.count));
     }
     if (stats != nullptr) stats->subsampled_out += kept - max_points;
@@ -204,6 +213,10 @@ void PointCloudBuffer::Config::Validate() const {
   if (!(crop_radius_m > 0.0)) fail("crop_radius_m must be > 0, got " + std::to_string(crop_radius_m));
   if (!std::isfinite(voxel_size_m)) fail("voxel_size_m must be finite");
   if (min_hits < 1) fail("min_hits must be >= 1, got " + std::to_string(min_hits));
+  if (!(near_range_m >= 0.0) || !std::isfinite(near_range_m)) {
+    fail("near_range_m must be finite and >= 0, got " + std::to_string(near_range_m));
+  }
+  if (near_min_hits < 1) fail("near_min_hits must be >= 1, got " + std::to_string(near_min_hits));
   if (max_points < 4) fail("max_points must be >= 4, got " + std::to_string(max_points));
 }
 
@@ -320,7 +333,8 @@ PointCloudBuffer::LocalCloud PointCloudBuffer::Build() const {
       }
     }
     if (batched > 0) voxels.AddBatch(batch_L, batched);
-    voxels.Extract(config_.min_hits, config_.max_points, config_.seed, &result.points_L, &stats);
+    voxels.Extract(config_.min_hits, config_.max_points, config_.seed, &result.points_L, &stats, config_.near_range_m,
+                   config_.near_min_hits);
   };
   // The crop bounds every coordinate (with a margin for rounding).
   if (KeysFitInt32(1.001 * config_.crop_radius_m + 1.0, config_.voxel_size_m)) {

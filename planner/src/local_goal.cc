@@ -123,6 +123,8 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
   column.margin_m = 0.0;
   column.footprint_check = VehicleBox::FootprintCheck::kWheels;
   std::vector<std::uint8_t> state(static_cast<std::size_t>(nx) * ny, kUnknown);
+  std::vector<Eigen::Vector2d> blocking;  // the non-traversable point of each kBlocked cell
+  std::vector<std::size_t> blocking_cell;
   for (int iy = 0; iy < ny; ++iy) {
     for (int ix = 0; ix < nx; ++ix) {
       const Eigen::Vector2d c = centre(ix, iy);
@@ -137,21 +139,25 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
         }
       } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell) {
         state[index(ix, iy)] = kBlocked;
+        blocking.push_back(g->surface_point.head<2>());
+        blocking_cell.push_back(index(ix, iy));
       }
     }
   }
   const auto impassable = [&state](std::size_t j) { return state[j] == kBlocked || state[j] == kOverhead; };
+  // Cells the vehicle's centre cannot be in: within half its width and its margin of a
+  // non-traversable point (measured from the point itself, not from its cell: growing whole cells
+  // would close a lane between posts 2.7 m apart that the 1.5 m vehicle fits through).
   std::vector<std::uint8_t> blocked(state.size(), 0);
-  const int grow = static_cast<int>(std::ceil(0.5 * vehicle.width_m / cell));
-  for (int iy = 0; iy < ny; ++iy) {
-    for (int ix = 0; ix < nx; ++ix) {
-      if (state[index(ix, iy)] != kBlocked) continue;
-      for (int dy = -grow; dy <= grow; ++dy) {
-        for (int dx = -grow; dx <= grow; ++dx) {
-          const int jx = ix + dx, jy = iy + dy;
-          if (jx >= 0 && jy >= 0 && jx < nx && jy < ny && (dx * dx + dy * dy) * cell * cell <= (grow * cell) * (grow * cell)) {
-            blocked[index(jx, jy)] = 1;
-          }
+  const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
+  const int grow = static_cast<int>(std::ceil(half_width / cell)) + 1;
+  for (std::size_t k = 0; k < blocking.size(); ++k) {
+    const int ix = static_cast<int>(blocking_cell[k] % nx), iy = static_cast<int>(blocking_cell[k] / nx);
+    for (int dy = -grow; dy <= grow; ++dy) {
+      for (int dx = -grow; dx <= grow; ++dx) {
+        const int jx = ix + dx, jy = iy + dy;
+        if (jx >= 0 && jy >= 0 && jx < nx && jy < ny && (centre(jx, jy) - blocking[k]).norm() <= half_width) {
+          blocked[index(jx, jy)] = 1;
         }
       }
     }
@@ -278,13 +284,14 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
         })) {
       continue;
     }
-    // Only cells inside the reached region, not on its rim: the rim of what is known is where
-    // sparse ground comes and goes from one map update to the next.
+    // Only cells inside the known region, not on its rim: the rim of what is known is where
+    // sparse ground comes and goes from one map update to the next. (Known, not reached: a lane
+    // between posts may be one cell wide in the reach.)
     bool interior = true;
     for (int dy = -rim; dy <= rim && interior; ++dy) {
       for (int dx = -rim; dx <= rim && interior; ++dx) {
         const int jx = ix + dx, jy = iy + dy;
-        interior = jx >= 0 && jy >= 0 && jx < nx && jy < ny && std::isfinite(reach[index(jx, jy)]);
+        interior = jx >= 0 && jy >= 0 && jx < nx && jy < ny && state[index(jx, jy)] != kUnknown;
       }
     }
     if (!interior) continue;

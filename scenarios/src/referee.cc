@@ -36,6 +36,17 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
   return false;
 }
 
+// Does a wheel's contact point at the true pose lie inside the region?
+bool WheelInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const Region& r) {
+  for (double x : {0.0, v.wheelbase_m}) {
+    for (double y : {-0.5 * v.track_m, 0.5 * v.track_m}) {
+      const Vec3 p = T_W_B * Vec3(x, y, 0.0);
+      if (p.x() >= r.min_m.x() && p.x() <= r.max_m.x() && p.y() >= r.min_m.y() && p.y() <= r.max_m.y()) return true;
+    }
+  }
+  return false;
+}
+
 // Does a wheel's contact point at the true pose lie outside the terrain's extent (centred on the
 // origin)? A body overhanging the edge stands; a wheel past it drops.
 bool WheelOffTerrain(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const sim::TerrainConfig& t) {
@@ -79,7 +90,10 @@ void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::
   }
   if (!off_terrain_ && WheelOffTerrain(T_W_B, vehicle_, scenario_.sim.world.terrain)) off_terrain_ = true;
   for (std::size_t i = 0; i < region_entered_.size(); ++i) {
-    if (!region_entered_[i] && FootprintInRegion(T_W_B, vehicle_, scenario_.criteria.forbidden[i])) region_entered_[i] = true;
+    const Region& r = scenario_.criteria.forbidden[i];
+    if (!region_entered_[i] && (r.by == Region::By::kWheels ? WheelInRegion(T_W_B, vehicle_, r) : FootprintInRegion(T_W_B, vehicle_, r))) {
+      region_entered_[i] = true;
+    }
   }
 }
 

@@ -259,6 +259,13 @@ void ReadCriteria(MapReader r, Criteria* c) {
       if (!lo || !hi) f.Fail(list[i], "'" + ctx + "' needs min_m: [x, y] and max_m: [x, y]");
       region.min_m = f.GetXY(lo, ctx + ".min_m");
       region.max_m = f.GetXY(hi, ctx + ".max_m");
+      std::string by = "footprint";
+      f.Get("by", &by);
+      if (by == "wheels") {
+        region.by = Region::By::kWheels;
+      } else if (by != "footprint") {
+        f.Fail(f.Child("by"), "'" + ctx + ".by' must be footprint or wheels, got '" + by + "'");
+      }
       f.Finish();
       c->forbidden.push_back(region);
     }

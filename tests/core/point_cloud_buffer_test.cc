@@ -256,6 +256,42 @@ TEST(PointCloudBufferTest, BuildMatchesTheReferenceWithOtherSettings) {
   CompareWithReference(config, 5, 12);
 }
 
+TEST(PointCloudBufferTest, VoxelsNearTheSensorNeedNearMinHits) {
+  // One scan from a sensor 2 m up: two stray returns sharing a voxel 1.5 m from the sensor, a
+  // surface patch hit six times in a voxel 2 m away, and two returns sharing a voxel 8 m away.
+  Scan scan;
+  scan.T_O_S = Pose(Vec3(0.0, 0.0, 2.0), 0.0);
+  const auto add = [&scan](const Vec3& p, int n) {
+    for (int i = 0; i < n; ++i) scan.points_S.push_back(p + Vec3(0.01 * i, 0.005 * i, 0.0));
+  };
+  add(Vec3(1.52, 0.03, -0.47), 2);  // stray pair
+  add(Vec3(2.03, 0.02, -0.47), 6);  // surface
+  add(Vec3(8.03, 0.02, -1.97), 2);  // far pair
+  const auto near_of = [](const Points& pts, double range_m) {
+    return std::count_if(pts.begin(), pts.end(), [range_m](const Vec3& p) { return p.norm() < range_m; });
+  };
+  PointCloudBuffer::Config config;
+  config.voxel_size_m = 0.1;
+  PointCloudBuffer paper(config);  // min_hits everywhere
+  paper.Push(scan);
+  const Points all = paper.Build().points_L;
+  EXPECT_EQ(all.size(), 3u);
+  config.near_range_m = 3.0;
+  config.near_min_hits = 4;
+  PointCloudBuffer near(config);
+  near.Push(scan);
+  const Points kept = near.Build().points_L;
+  ASSERT_EQ(kept.size(), 2u);  // the stray pair is gone
+  EXPECT_EQ(near_of(kept, 1.8), 0);
+  EXPECT_EQ(near_of(kept, 3.0), 1);
+  EXPECT_GT(kept[0].norm() + kept[1].norm(), 9.0);  // the far pair stays
+  config.near_min_hits = 0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  config.near_min_hits = 4;
+  config.near_range_m = -1.0;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+}
+
 TEST(PointCloudBufferTest, VoxelFilterAndSubsampleMatchTheReference) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-30.0, 30.0);

@@ -515,5 +515,49 @@ TEST(LocalGoalTest, ReachableGoalKeepsToTheSideOfThePreviousGoalWhenBothAreAsGoo
   EXPECT_THROW(config.Validate(), std::invalid_argument);
 }
 
+// Flat known ground, x in [-10, 20], |y| <= 6, with two columns of posts (x = 4 and 7) 3 m apart
+// across it (y = +-1.5, +-4.5, ...): each post's foot is non-traversable within 0.4 m of its centre,
+// so the lanes between them are 2.2 m wide, room for the 1.7 m box with its margins.
+class PostRowsMap : public PlanningMap {
+ public:
+  static bool Post(double x, double y) {
+    for (const double px : {4.0, 7.0}) {
+      for (double py = -10.5; py <= 10.5; py += 3.0) {
+        if (std::hypot(x - px, y - py) <= 0.4) return true;
+      }
+    }
+    return false;
+  }
+  static bool Known(double x, double y) { return x >= -10.0 && x <= 20.0 && std::abs(y) <= 6.0; }
+  std::optional<GroundPose> Project(const Pose2& pose) const override {
+    if (!Known(pose.x_m, pose.y_m)) return std::nullopt;
+    return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), !Post(pose.x_m, pose.y_m));
+  }
+  PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override {
+    return CheckFootprint(ground, vehicle, [](double x, double y) {
+      if (Post(x, y)) return PoseCheck::kCollision;
+      return Known(x, y) ? PoseCheck::kValid : PoseCheck::kGroundUnderFootprint;
+    });
+  }
+  bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m) && !Post(x_m, y_m); }
+  MapBounds Bounds() const override { return MapBounds{-10.0, 20.0, -6.0, 6.0}; }
+};
+
+TEST(LocalGoalTest, ReachableGoalGoesDownALaneBetweenPostsTheVehicleFits) {
+  // The reach keeps the vehicle's half width from each non-traversable point itself; growing the
+  // post's grid cells by whole cells instead closed the 2.2 m lane, and the goal stayed in front
+  // of the first column.
+  const PostRowsMap map;
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {30.0, 0.0}};
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
+  config.cell_m = 0.5;  // the closed loop's cells
+  const auto goals = SelectLocalGoals(map, VehicleBox{}, route, kIdentity, Pose2{-2.0, 0.0, 0.0}, config, std::nullopt, 3);
+  ASSERT_FALSE(goals.empty());
+  EXPECT_GT(goals.front().pose.x_m, 8.0);
+  EXPECT_LT(std::abs(goals.front().pose.y_m), 1.5);
+  for (const LocalGoal& g : goals) EXPECT_EQ(CheckPose(map, VehicleBox{}, g.pose), PoseCheck::kValid);
+}
+
 }  // namespace
 }  // namespace ovpc::planner

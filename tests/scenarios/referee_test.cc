@@ -46,5 +46,27 @@ TEST(RefereeTest, AVehicleOverTheTerrainsEdgeHasLeftItAndFails) {
   EXPECT_FALSE(off.passed);
 }
 
+TEST(RefereeTest, AForbiddenRegionIsEnteredByTheFootprintOrOnlyByAWheel) {
+  // A ditch between x = 10 and 12 across the route; the vehicle stops with its front wheels at
+  // 9.9 m and its front bumper 0.45 m further, over the ditch's edge.
+  Scenario s;
+  s.route_m = {{0.0, 0.0}, {20.0, 0.0}};
+  s.criteria.forbidden.push_back(Region{"footprint", Vec3(10.0, -20.0, 0.0).head<2>(), Vec3(12.0, 20.0, 0.0).head<2>()});
+  Region wheels{"wheels", Vec3(10.0, -20.0, 0.0).head<2>(), Vec3(12.0, 20.0, 0.0).head<2>()};
+  wheels.by = Region::By::kWheels;
+  s.criteria.forbidden.push_back(wheels);
+  const sim::GatorParams gator;
+  Referee referee(s, gator, At(0.0, 0.0, 0.0));
+  referee.Observe(1.0, At(8.0, 0.0, 0.0), {});
+  RunResult overhang;
+  referee.Score(&overhang);
+  EXPECT_FALSE(CriterionPassed(overhang, "never_enter:footprint"));
+  EXPECT_TRUE(CriterionPassed(overhang, "never_enter:wheels"));
+  referee.Observe(2.0, At(8.2, 0.0, 0.0), {});  // the front wheels at 10.1 m: in it
+  RunResult in;
+  referee.Score(&in);
+  EXPECT_FALSE(CriterionPassed(in, "never_enter:wheels"));
+}
+
 }  // namespace
 }  // namespace ovpc::scenarios

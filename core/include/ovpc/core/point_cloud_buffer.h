@@ -48,6 +48,12 @@ class PointCloudBuffer {
     double crop_radius_m = 25.0;  ///< points farther from the current sensor are dropped
     double voxel_size_m = 0.1;    ///< voxel filter edge length; <= 0 disables the filter
     int min_hits = 2;             ///< voxels with fewer points are outliers (paper: 2)
+    /// Voxels whose centroid is within near_range_m of the newest sensor position need
+    /// near_min_hits points instead: rays crowd there, so a spurious return (dust, multipath)
+    /// shares a voxel with another far more often than far out, while a real surface that close
+    /// is hit tens of times. 0: min_hits everywhere (the paper's rule).
+    double near_range_m = 0.0;
+    int near_min_hits = 2;
     std::size_t max_points = 14000;  ///< subsampling target (paper: 6,000-14,000 result points)
     std::uint64_t seed = 1;       ///< seed of the subsampling hash
 

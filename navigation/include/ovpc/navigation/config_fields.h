@@ -36,6 +36,8 @@ void VisitFields(V& v, PointCloudBuffer::Config& c) {
   v.Field("crop_radius_m", c.crop_radius_m);
   v.Field("voxel_size_m", c.voxel_size_m);
   v.Field("min_hits", c.min_hits);
+  v.Field("near_range_m", c.near_range_m);
+  v.Field("near_min_hits", c.near_min_hits);
   v.Field("max_points", c.max_points);
   v.Field("seed", c.seed);
 }

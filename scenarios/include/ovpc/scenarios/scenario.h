@@ -19,6 +19,11 @@ struct Region {
   std::string name;
   Eigen::Vector2d min_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d max_m = Eigen::Vector2d::Zero();
+  /// What may not enter it: any part of the vehicle's footprint (a roof too low to pass under), or
+  /// a wheel's contact point (ground a wheel must not be on: a ditch, a steep face; the body may
+  /// overhang it).
+  enum class By { kFootprint, kWheels };
+  By by = By::kFootprint;
 };
 
 /// Success criteria with expected values (CARLA ScenarioRunner style). Unset ones are not checked.
