@@ -262,11 +262,9 @@ bool ColumnMap::SeenBeyond(const Vec3& contact, double radius_m) const {
 planner::PoseCheck ColumnMap::CheckBox(const planner::GroundPose& ground, const planner::VehicleBox& vehicle) const {
   using planner::PoseCheck;
   // The box and the slab under its footprint in frame B, as VertexCloudMap::CheckBox.
-  const double min_x = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
-  const double max_x = vehicle.centre_ahead_m + 0.5 * vehicle.length_m + vehicle.margin_m;
-  const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
-  const double top = vehicle.height_m + vehicle.margin_m;
-  const double bottom = -vehicle.footprint_depth_m;
+  const planner::BoxExtent box = planner::BoxExtentAt(ground, vehicle);
+  const double min_x = box.min_x_m, max_x = box.max_x_m, half_width = box.half_width_m, top = box.top_m;
+  const double bottom = box.bottom_m;
   const double clearance = vehicle.ground_clearance_m;
   const ColumnGrid& g = grid_;
   if (g.sample_z.empty()) return PoseCheck::kValid;
@@ -274,16 +272,7 @@ planner::PoseCheck ColumnMap::CheckBox(const planner::GroundPose& ground, const 
 
   // The columns under the planar bounding box of the eight corners (a column is vertical, so a
   // solid one meets the box only there too).
-  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
-  for (double x : {min_x, max_x}) {
-    for (double y : {-half_width, half_width}) {
-      for (double z : {bottom, top}) {
-        const Vec3 c = ground.T_L_B * Vec3(x, y, z);
-        lo_x = std::min(lo_x, c.x()), hi_x = std::max(hi_x, c.x());
-        lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
-      }
-    }
-  }
+  const double lo_x = box.planar.min_x_m, hi_x = box.planar.max_x_m, lo_y = box.planar.min_y_m, hi_y = box.planar.max_y_m;
   const int ix0 = static_cast<int>(std::max(0.0, std::floor((lo_x - g.origin_x_m) / g.resolution_m)));
   const int ix1 = static_cast<int>(std::min(g.nx - 1.0, std::floor((hi_x - g.origin_x_m) / g.resolution_m)));
   const int iy0 = static_cast<int>(std::max(0.0, std::floor((lo_y - g.origin_y_m) / g.resolution_m)));

@@ -1,6 +1,8 @@
 #include "ovpc/planner/planning_map.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -95,6 +97,27 @@ std::optional<GroundPose> PlaceOnWheels(const PlanningMap& map, const VehicleBox
   normal.normalize();
   const Vec3 centroid = 0.25 * (contact[0] + contact[1] + contact[2] + contact[3]);
   return PoseOnPlane(pose, centroid, normal, projected.traversable);
+}
+
+BoxExtent BoxExtentAt(const GroundPose& ground, const VehicleBox& vehicle) {
+  BoxExtent e;
+  e.min_x_m = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
+  e.max_x_m = vehicle.centre_ahead_m + 0.5 * vehicle.length_m + vehicle.margin_m;
+  e.half_width_m = 0.5 * vehicle.width_m + vehicle.margin_m;
+  e.top_m = vehicle.height_m + vehicle.margin_m;
+  e.bottom_m = -vehicle.footprint_depth_m;
+  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
+  for (double x : {e.min_x_m, e.max_x_m}) {
+    for (double y : {-e.half_width_m, e.half_width_m}) {
+      for (double z : {e.bottom_m, e.top_m}) {
+        const Vec3 c = ground.T_L_B * Vec3(x, y, z);
+        lo_x = std::min(lo_x, c.x()), hi_x = std::max(hi_x, c.x());
+        lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
+      }
+    }
+  }
+  e.planar = MapBounds{lo_x, hi_x, lo_y, hi_y};
+  return e;
 }
 
 PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose) {

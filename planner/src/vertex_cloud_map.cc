@@ -191,25 +191,14 @@ Vec3 VertexCloudMap::FittedNormal(int index) const {
 PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const {
   // The vehicle box and the slab under its footprint, in frame B: x along the heading from the rear
   // axle, z along the ground normal from the ground plane of the pose.
-  const double min_x = vehicle.centre_ahead_m - 0.5 * vehicle.length_m - vehicle.margin_m;
-  const double max_x = vehicle.centre_ahead_m + 0.5 * vehicle.length_m + vehicle.margin_m;
-  const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
-  const double top = vehicle.height_m + vehicle.margin_m;
-  const double bottom = -vehicle.footprint_depth_m;
   if (grid_.points.empty()) return PoseCheck::kValid;
+  const BoxExtent box = BoxExtentAt(ground, vehicle);
+  const double min_x = box.min_x_m, max_x = box.max_x_m, half_width = box.half_width_m, top = box.top_m;
+  const double bottom = box.bottom_m;
   const bool all_points = vehicle.footprint_check == VehicleBox::FootprintCheck::kAllPoints;
 
   // Planar bounding box of the eight corners, in cells.
-  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
-  for (double x : {min_x, max_x}) {
-    for (double y : {-half_width, half_width}) {
-      for (double z : {bottom, top}) {
-        const Vec3 c = ground.T_L_B * Vec3(x, y, z);
-        lo_x = std::min(lo_x, c.x()), hi_x = std::max(hi_x, c.x());
-        lo_y = std::min(lo_y, c.y()), hi_y = std::max(hi_y, c.y());
-      }
-    }
-  }
+  const double lo_x = box.planar.min_x_m, hi_x = box.planar.max_x_m, lo_y = box.planar.min_y_m, hi_y = box.planar.max_y_m;
   const Grid& g = grid_;
   const int ix0 = std::max(0, static_cast<int>(std::floor((lo_x - g.origin_x_m) / g.cell_m)));
   const int ix1 = std::min(g.nx - 1, static_cast<int>(std::floor((hi_x - g.origin_x_m) / g.cell_m)));

@@ -127,6 +127,18 @@ GroundPose PoseOnPlane(const Pose2& pose, const Vec3& point, const Vec3& normal,
 std::optional<GroundPose> PlaceOnWheels(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose,
                                         const GroundPose& projected);
 
+/// The vehicle box and the slab under its footprint in frame B of a ground pose (x along the heading
+/// from the rear axle, z along the ground normal from the ground plane), and the planar bounding box
+/// of its eight corners in the map frame: what a CheckBox implementation tests against.
+struct BoxExtent {
+  double min_x_m = 0.0, max_x_m = 0.0;  ///< along the heading, margins included
+  double half_width_m = 0.0;
+  double top_m = 0.0;                   ///< the box's top, margin included
+  double bottom_m = 0.0;                ///< the slab's bottom (-footprint_depth_m)
+  MapBounds planar;
+};
+BoxExtent BoxExtentAt(const GroundPose& ground, const VehicleBox& vehicle);
+
 /// The planner's state validity rule: project, require traversable ground, place the vehicle
 /// (VehicleBox::placement), then a free box.
 PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pose2& pose);
