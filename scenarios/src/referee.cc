@@ -1,6 +1,7 @@
 #include "ovpc/scenarios/referee.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -23,6 +24,10 @@ void RollPitchDeg(const Eigen::Isometry3d& T, double* roll_deg, double* pitch_de
   *roll_deg = RadToDeg(std::atan2(R(2, 1), R(2, 2)));
 }
 
+bool Inside(const Vec3& p, const Region& r) {
+  return p.x() >= r.min_m.x() && p.x() <= r.max_m.x() && p.y() >= r.min_m.y() && p.y() <= r.max_m.y();
+}
+
 // Does the vehicle footprint at the true pose touch the region? Checked on a grid of footprint points.
 bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const Region& r) {
   const double x0 = -v.rear_overhang_m, x1 = v.length_m - v.rear_overhang_m;
@@ -30,37 +35,31 @@ bool FootprintInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v
     for (int j = 0; j <= 2; ++j) {
       const Vec3 p_B(x0 + (x1 - x0) * i / 4.0, -v.width_m / 2 + v.width_m * j / 2.0, 0.0);
       const Vec3 p = T_W_B * p_B;
-      if (p.x() >= r.min_m.x() && p.x() <= r.max_m.x() && p.y() >= r.min_m.y() && p.y() <= r.max_m.y()) return true;
+      if (Inside(p, r)) return true;
     }
   }
   return false;
 }
 
-// Does a wheel's contact point at the true pose lie inside the region?
+// The wheels' contact points at the true pose (frame B: the rear axle's middle on the ground).
+std::array<Vec3, 4> WheelContacts(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v) {
+  return {T_W_B * Vec3(0.0, -0.5 * v.track_m, 0.0), T_W_B * Vec3(0.0, 0.5 * v.track_m, 0.0),
+          T_W_B * Vec3(v.wheelbase_m, -0.5 * v.track_m, 0.0), T_W_B * Vec3(v.wheelbase_m, 0.5 * v.track_m, 0.0)};
+}
+
+// Does a wheel's contact point lie inside the region?
 bool WheelInRegion(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const Region& r) {
-  for (double x : {0.0, v.wheelbase_m}) {
-    for (double y : {-0.5 * v.track_m, 0.5 * v.track_m}) {
-      const Vec3 p = T_W_B * Vec3(x, y, 0.0);
-      if (p.x() >= r.min_m.x() && p.x() <= r.max_m.x() && p.y() >= r.min_m.y() && p.y() <= r.max_m.y()) return true;
-    }
-  }
-  return false;
+  const auto wheels = WheelContacts(T_W_B, v);
+  return std::any_of(wheels.begin(), wheels.end(), [&r](const Vec3& p) { return Inside(p, r); });
 }
 
-// Does a wheel's contact point at the true pose lie outside the terrain's extent (centred on the
-// origin)? A body overhanging the edge stands; a wheel past it drops.
+// Does a wheel's contact point lie outside the terrain's extent (centred on the origin)? A body
+// overhanging the edge stands; a wheel past it drops.
 bool WheelOffTerrain(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, const sim::TerrainConfig& t) {
   const Region inside{"terrain", Eigen::Vector2d(-0.5 * t.size_x_m, -0.5 * t.size_y_m),
                       Eigen::Vector2d(0.5 * t.size_x_m, 0.5 * t.size_y_m)};
-  for (double x : {0.0, v.wheelbase_m}) {
-    for (double y : {-0.5 * v.track_m, 0.5 * v.track_m}) {
-      const Vec3 p = T_W_B * Vec3(x, y, 0.0);
-      if (p.x() < inside.min_m.x() || p.x() > inside.max_m.x() || p.y() < inside.min_m.y() || p.y() > inside.max_m.y()) {
-        return true;
-      }
-    }
-  }
-  return false;
+  const auto wheels = WheelContacts(T_W_B, v);
+  return std::any_of(wheels.begin(), wheels.end(), [&inside](const Vec3& p) { return !Inside(p, inside); });
 }
 
 }  // namespace
