@@ -306,9 +306,20 @@ void RunAll(std::vector<Job>& jobs, const Options& o, const std::vector<FamilyIn
   std::size_t next = 0, done = 0, passed = 0, running = 0;
   const auto not_run = [](const Job& job) { return !job.error.empty() && job.pid == 0; };
   std::map<pid_t, std::size_t> by_pid;
-  auto progress = [&]() {
-    std::fprintf(stderr, "\r[%zu/%zu] done, %zu running, %zu passed, %zu failed   ", done, jobs.size(), running, passed,
-                 done - passed);
+  // On a terminal one line, rewritten in place; in a log (CI) one line per finished run, naming it.
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  auto progress = [&](const Job* finished) {
+    if (tty) {
+      std::fprintf(stderr, "\r[%zu/%zu] done, %zu running, %zu passed, %zu failed   ", done, jobs.size(), running,
+                   passed, done - passed);
+    } else if (finished != nullptr) {
+      std::string what = finished->scenario;
+      if (!finished->settings.empty()) what += " [" + suite::SettingsLabel(finished->settings) + "]";
+      std::fprintf(stderr, "[%zu/%zu] %s seed %llu: %s (%zu passed, %zu failed so far)\n", done, jobs.size(),
+                   what.c_str(), static_cast<unsigned long long>(finished->seed),
+                   !finished->error.empty() ? "ERROR" : suite::Passed(*finished) ? "pass" : "FAIL", passed,
+                   done - passed);
+    }
     std::fflush(stderr);
   };
   while (done < jobs.size()) {
@@ -322,7 +333,7 @@ void RunAll(std::vector<Job>& jobs, const Options& o, const std::vector<FamilyIn
       Start(job, o, self);
       by_pid[job.pid] = next++;
       ++running;
-      progress();
+      progress(nullptr);
     }
     if (running == 0) break;  // every remaining job was a malformed file
     int status = 0;
@@ -335,9 +346,9 @@ void RunAll(std::vector<Job>& jobs, const Options& o, const std::vector<FamilyIn
     passed += suite::Passed(job);
     ++done;
     --running;
-    progress();
+    progress(&job);
   }
-  std::fprintf(stderr, "\n");
+  if (tty) std::fprintf(stderr, "\n");
 }
 
 }  // namespace

@@ -182,7 +182,8 @@ std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const Vehicl
         if (jx < 0 || jy < 0 || jx >= nx || jy >= ny) continue;
         const std::size_t j = index(jx, jy);
         if (!passable(j)) continue;
-        const double next = c + cell * ((step[0] != 0 && step[1] != 0) ? std::sqrt(2.0) : 1.0);
+        const double next = c + cell * ((step[0] != 0 && step[1] != 0) ? std::sqrt(2.0) : 1.0) *
+                                    (state[j] == kUnknown ? config.unknown_cost : 1.0);
         if (next < (*cost)[j]) {
           (*cost)[j] = next;
           open.push({next, j});
@@ -336,6 +337,9 @@ void LocalGoalSelection::Config::Validate() const {
   if (!(reach_offset_penalty >= 0.0) || !std::isfinite(reach_offset_penalty)) {
     throw std::invalid_argument("LocalGoalSelection::Config: reach_offset_penalty must be >= 0, got " +
                                 std::to_string(reach_offset_penalty));
+  }
+  if (!(unknown_cost >= 1.0) || !(unknown_cost <= 100.0)) {
+    throw std::invalid_argument("LocalGoalSelection::Config: unknown_cost must be in [1, 100], got " + std::to_string(unknown_cost));
   }
   if (!(reach_support_m > 0.0)) {
     throw std::invalid_argument("LocalGoalSelection::Config: reach_support_m must be > 0, got " + std::to_string(reach_support_m));

@@ -559,5 +559,50 @@ TEST(LocalGoalTest, ReachableGoalGoesDownALaneBetweenPostsTheVehicleFits) {
   for (const LocalGoal& g : goals) EXPECT_EQ(CheckPose(map, VehicleBox{}, g.pose), PoseCheck::kValid);
 }
 
+// A wall across known ground (x in [4, 5]) with two gaps 1 m wide, at y in [5.5, 6.5] and
+// [-6.5, -5.5]: too narrow for the vehicle's reach, open to the cost to go. Past the wall the ground
+// is known south of the route (y < 0) and unseen north of it.
+class TwoGapsMap : public PlanningMap {
+ public:
+  static bool Wall(double x, double y) {
+    return x >= 4.0 && x <= 5.0 && !(std::abs(y) >= 5.5 && std::abs(y) <= 6.5);
+  }
+  static bool Known(double x, double y) { return x >= -10.0 && std::abs(y) <= 10.0 && (x <= 5.0 || (x <= 10.0 && y < 0.0)); }
+  std::optional<GroundPose> Project(const Pose2& pose) const override {
+    if (!Known(pose.x_m, pose.y_m)) return std::nullopt;
+    return PoseOnPlane(pose, Vec3(pose.x_m, pose.y_m, 0.0), Vec3::UnitZ(), !Wall(pose.x_m, pose.y_m));
+  }
+  PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const override {
+    return CheckFootprint(ground, vehicle, [](double x, double y) {
+      if (Wall(x, y)) return PoseCheck::kCollision;
+      return Known(x, y) ? PoseCheck::kValid : PoseCheck::kGroundUnderFootprint;
+    });
+  }
+  bool IsKnownFree(double x_m, double y_m) const override { return Known(x_m, y_m) && !Wall(x_m, y_m); }
+  MapBounds Bounds() const override { return MapBounds{-10.0, 10.0, -10.0, 10.0}; }
+};
+
+TEST(LocalGoalTest, ReachableGoalPrefersTheWayRoundItHasSeenToBeFree) {
+  // Both ways round are as long; the south one runs over ground seen to be free, the north one over
+  // unseen ground. Counted alike, the unseen way is at least as good (here a grid cell's offset
+  // makes it a little better) and the goal goes north; counting unseen ground dearer, south.
+  const TwoGapsMap map;
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {30.0, 0.0}};
+  const Pose2 start{-6.0, 0.0, 0.0};
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
+  const auto alike = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(alike.has_value());
+  EXPECT_GT(alike->pose.y_m, 2.0);
+  config.unknown_cost = 1.5;
+  const auto seen = SelectLocalGoal(map, VehicleBox{}, route, kIdentity, start, config);
+  ASSERT_TRUE(seen.has_value());
+  EXPECT_LT(seen->pose.y_m, -2.0);
+  EXPECT_LT(seen->pose.x_m, 4.0);  // in front of the wall: the gap is too narrow to reach through
+  EXPECT_EQ(CheckPose(map, VehicleBox{}, seen->pose), PoseCheck::kValid);
+  config.unknown_cost = 0.5;
+  EXPECT_THROW(config.Validate(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ovpc::planner

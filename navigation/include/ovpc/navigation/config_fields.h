@@ -160,6 +160,7 @@ void VisitFields(V& v, planner::LocalGoalSelection::Config& c) {
   v.Field("lateral_offsets_m", c.lateral_offsets_m);
   v.Field("lateral_offset_penalty", c.lateral_offset_penalty);
   v.Field("previous_goal_penalty", c.previous_goal_penalty);
+  v.Field("unknown_cost", c.unknown_cost);
   v.Field("keep_previous_within_m", c.keep_previous_within_m);
   v.Field("max_gap_m", c.max_gap_m);
   v.Field("max_ahead_m", c.max_ahead_m);

@@ -42,6 +42,12 @@ struct LocalGoalSelection {
     /// ahead, make paths that undo each other. 0: no preference (the previous goal is still kept by
     /// keep_previous_within_m).
     double previous_goal_penalty = 0.0;
+    /// kReachable: the cost to go counts a metre over unknown ground as this many metres (>= 1). With
+    /// 1, unseen ground is as good as seen free ground, and the side of an obstacle the vehicle has
+    /// not looked at yet always looks at least as good as the one it is driving to, whose obstacles it
+    /// now sees: in front of a wide roof the goal then changes sides at each update. Counting the
+    /// unseen dearer, ground the vehicle has seen to be free makes the way it took cheaper.
+    double unknown_cost = 1.0;
     /// The goal is at least this far (straight line) from the vehicle, unless it is the route's end.
     double min_distance_m = 4.0;
     /// kRoute: route points this close (along the route) to its last waypoint count as its end: they
