@@ -150,8 +150,16 @@ void Navigator::AddScan(Scan scan) {
 }
 
 bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
-  progress_m_ = planner::RouteProgress(route_O_, T_O_B.translation().head<2>(), progress_m_, config_.progress_back_m,
-                                       config_.progress_ahead_m);
+  const Eigen::Vector2d here = T_O_B.translation().head<2>();
+  progress_m_ = planner::RouteProgress(route_O_, here, progress_m_, config_.progress_back_m, config_.progress_ahead_m);
+  // The vehicle is at most its straight-line distance short of the goal it drives to: a vehicle
+  // cutting a sharp corner (as a local goal across it invites) is far from the route, and the
+  // nearest route point inside the window stays on the leg it left, which held the goal back at
+  // the next corner (the corners family: rocking there until the time ran out).
+  if (last_goal_O_) {
+    const double to_goal = (here - Eigen::Vector2d(last_goal_O_->pose.x_m, last_goal_O_->pose.y_m)).norm();
+    progress_m_ = std::max(progress_m_, last_goal_O_->route_progress_m - to_goal);
+  }
   if (!(time_s + 1e-9 >= next_map_s_)) return false;
   next_map_s_ = NextTick(time_s, next_map_s_, 1.0 / config_.map_rate_hz);
   MapCycle(time_s, T_O_B);

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ovpc/planner/local_goal.h"
 #include "ovpc/synth/synthetic_scene.h"
 
 namespace ovpc::navigation {
@@ -226,6 +227,26 @@ TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
   Navigator::Config bad = FlatConfig();
   bad.cusp_cost_m = -1.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
+// A route that turns back sharply (the corners family): a vehicle driving across the corner towards
+// a goal on the next leg is far from the route, and the nearest route point inside the tracking
+// window stays on the first leg. Its progress is that of its goal less the distance to it.
+TEST(NavigatorTest, ProgressFollowsTheGoalWhenTheVehicleCutsASharpCorner) {
+  const std::vector<Eigen::Vector2d> route = {{0.0, 0.0}, {12.0, 0.0}, {3.1, 8.1}, {4.3, 20.0}};
+  Navigator nav(FlatConfig(), route);
+  FirstCycle(&nav, FlatGroundScans(1));
+  ASSERT_TRUE(nav.goal_O().has_value());
+  const double goal_progress = nav.plan_log().back().goal_progress_m;
+  ASSERT_GT(goal_progress, 14.0) << "the goal lies past the first corner";
+  // Half way from the start to the goal, straight across the corner (no map cycle is due).
+  Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
+  T_O_B.translation().head<2>() = 0.5 * *nav.goal_O();
+  EXPECT_FALSE(nav.Update(0.3, T_O_B));
+  const double to_goal = (0.5 * *nav.goal_O()).norm();
+  EXPECT_NEAR(nav.route_progress_m(), goal_progress - to_goal, 1e-9);
+  EXPECT_GT(nav.route_progress_m(), planner::RouteProgress(route, T_O_B.translation().head<2>(), 0.0, 5.0, 10.0) + 3.0)
+      << "the nearest route point in the window is on the first leg";
 }
 
 TEST(NavigatorTest, GeometryIsDerivedFromTheVehicleModel) {
