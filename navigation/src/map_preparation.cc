@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace ovpc::navigation {
@@ -33,42 +33,119 @@ void MapPreparation::Config::Validate() const {
   }
 }
 
+namespace {
+
+// The points of a cloud by cell of a cubic grid: an open-addressing table from a cell's integer key
+// to its run of point indices (increasing) in one array. Built once per call, no allocation per
+// cell.
+class CellIndex {
+ public:
+  using Key = std::array<std::int64_t, 3>;
+
+  CellIndex(double cell_m) : inv_(1.0 / cell_m) {}
+
+  // The cell of `p`. Keys are clamped to +-2^62: a clamp is monotone and moves neighbouring keys
+  // at most as far apart as they were, so two points within one cell edge stay in neighbouring
+  // cells (and a coordinate that overflows an int64 cannot occur).
+  Key KeyOf(const Vec3& p) const {
+    constexpr double kMax = 4.0e18;
+    Key k;
+    for (int a = 0; a < 3; ++a) {
+      const double c = std::floor(p[a] * inv_);
+      k[a] = static_cast<std::int64_t>(c >= kMax ? kMax : (c <= -kMax ? -kMax : c));
+    }
+    return k;
+  }
+
+  // Indexes the points `indices` of `points` (in that order).
+  void Build(const Points& points, const std::vector<std::uint32_t>& indices) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * indices.size()) capacity *= 2;
+    mask_ = capacity - 1;
+    slots_.assign(capacity, -1);
+    keys_.clear();
+    std::vector<std::int32_t> cell_of(indices.size());
+    std::vector<std::uint32_t> count;
+    for (std::size_t n = 0; n < indices.size(); ++n) {
+      const Key k = KeyOf(points[indices[n]]);
+      std::size_t slot = Hash(k) & mask_;
+      while (slots_[slot] >= 0 && keys_[static_cast<std::size_t>(slots_[slot])] != k) slot = (slot + 1) & mask_;
+      if (slots_[slot] < 0) {
+        slots_[slot] = static_cast<std::int32_t>(keys_.size());
+        keys_.push_back(k);
+        count.push_back(0);
+      }
+      cell_of[n] = slots_[slot];
+      ++count[static_cast<std::size_t>(slots_[slot])];
+    }
+    start_.assign(keys_.size() + 1, 0);
+    for (std::size_t c = 0; c < keys_.size(); ++c) start_[c + 1] = start_[c] + count[c];
+    members_.resize(indices.size());
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t n = 0; n < indices.size(); ++n) members_[fill[static_cast<std::size_t>(cell_of[n])]++] = indices[n];
+  }
+
+  // The point indices in the cell `k` as [begin, end) of members(); empty if the cell is.
+  std::pair<const std::uint32_t*, const std::uint32_t*> Cell(const Key& k) const {
+    std::size_t slot = Hash(k) & mask_;
+    while (slots_[slot] >= 0) {
+      const auto c = static_cast<std::size_t>(slots_[slot]);
+      if (keys_[c] == k) return {members_.data() + start_[c], members_.data() + start_[c + 1]};
+      slot = (slot + 1) & mask_;
+    }
+    return {nullptr, nullptr};
+  }
+
+ private:
+  static std::uint64_t Hash(const Key& k) {
+    std::uint64_t h = (static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL) ^
+                      (static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL) ^
+                      (static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL);
+    h ^= h >> 29;
+    return h * 0xbf58476d1ce4e5b9ULL ^ (h >> 32);
+  }
+  double inv_;
+  std::size_t mask_ = 0;
+  std::vector<std::int32_t> slots_;
+  std::vector<Key> keys_;
+  std::vector<std::uint32_t> start_;
+  std::vector<std::uint32_t> members_;
+};
+
+}  // namespace
+
 void DropIsolatedPoints(double radius_m, double reach_m, Points* points_L) {
   if (!(radius_m > 0.0) || points_L->empty()) return;
-  const double inv = 1.0 / radius_m;
-  const auto key = [inv](const Vec3& p) {
-    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x() * inv)),
-                                       static_cast<std::int64_t>(std::floor(p.y() * inv)),
-                                       static_cast<std::int64_t>(std::floor(p.z() * inv))};
-  };
-  struct KeyHash {
-    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
-      return static_cast<std::size_t>((static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL) ^
-                                      (static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL) ^
-                                      (static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL));
-    }
-  };
-  std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::size_t>, KeyHash> cells;
-  cells.reserve(points_L->size());
-  for (std::size_t i = 0; i < points_L->size(); ++i) cells[key((*points_L)[i])].push_back(i);
+  const Points& points = *points_L;
   const double r2 = radius_m * radius_m, reach2 = reach_m * reach_m;
-  std::vector<char> drop(points_L->size(), 0);
-  for (std::size_t i = 0; i < points_L->size(); ++i) {
-    const Vec3& p = (*points_L)[i];
+  // Only points within reach_m + radius_m can be the neighbour of one within reach_m.
+  const double indexed2 = (reach_m + radius_m) * (reach_m + radius_m);
+  std::vector<std::uint32_t> indexed;
+  indexed.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].squaredNorm() <= indexed2) indexed.push_back(static_cast<std::uint32_t>(i));
+  }
+  CellIndex cells(radius_m);
+  cells.Build(points, indexed);
+  std::vector<char> drop(points.size(), 0);
+  for (std::uint32_t i : indexed) {
+    const Vec3& p = points[i];
     if (p.squaredNorm() > reach2) continue;
-    const auto k = key(p);
-    bool neighbour = false;
+    const CellIndex::Key k = cells.KeyOf(p);
+    const auto has_neighbour_in = [&](const CellIndex::Key& cell) {
+      const auto [begin, end] = cells.Cell(cell);
+      for (const std::uint32_t* j = begin; j != end; ++j) {
+        if (*j != i && (points[*j] - p).squaredNorm() <= r2) return true;
+      }
+      return false;
+    };
+    // The point's own cell first: most points have a neighbour there.
+    bool neighbour = has_neighbour_in(k);
     for (int dx = -1; dx <= 1 && !neighbour; ++dx) {
       for (int dy = -1; dy <= 1 && !neighbour; ++dy) {
         for (int dz = -1; dz <= 1 && !neighbour; ++dz) {
-          const auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
-          if (it == cells.end()) continue;
-          for (std::size_t j : it->second) {
-            if (j != i && ((*points_L)[j] - p).squaredNorm() <= r2) {
-              neighbour = true;
-              break;
-            }
-          }
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          neighbour = has_neighbour_in({k[0] + dx, k[1] + dy, k[2] + dz});
         }
       }
     }

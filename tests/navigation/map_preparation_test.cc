@@ -60,6 +60,16 @@ TEST(MapPreparationTest, IsolatedPointFilterAgreesWithABruteForceSearch) {
   EXPECT_LT(out.size(), cloud.size());  // something was dropped
 }
 
+TEST(MapPreparationTest, IsolatedPointFilterTakesDuplicatesAndHugeCoordinates) {
+  // An exact duplicate is a neighbour; coordinates far beyond any integer cell key are grouped at
+  // the clamped key, and still judged by their distances.
+  Points cloud = {{1.0, 1.0, 0.0}, {1.0, 1.0, 0.0}, {-3.0, 2.0, 0.0},
+                  {1e200, 1e200, 0.0}, {1e200, 1e200, 0.1}, {-1e200, 5e199, 0.0}};
+  DropIsolatedPoints(0.25, 1e300, &cloud);
+  const Points expected = {{1.0, 1.0, 0.0}, {1.0, 1.0, 0.0}, {1e200, 1e200, 0.0}, {1e200, 1e200, 0.1}};
+  EXPECT_EQ(cloud, expected);
+}
+
 // The Gator's footprint in B: x from -0.45 to 2.35 m, y within +-0.75 m.
 FootprintBox GatorFootprint() {
   FootprintBox box;
