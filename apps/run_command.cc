@@ -25,6 +25,7 @@ Runner RegisterRun(CLI::App& app) {
     bool print_config = false;
     bool frames = false;
     bool quiet = false;
+    int threads = 1;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "Run one scenario in closed loop (headless) and score it");
@@ -46,6 +47,11 @@ Runner RegisterRun(CLI::App& app) {
                 "Print the run's effective configuration (navigator and record, preset form) and exit");
   cmd->add_flag("--frames", o->frames, "Render chase-camera PNG frames (EGL, CPU; slow)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
+  cmd->add_option("--threads", o->threads,
+                  "Threads for the run: 2 maps and plans beside the simulation when navigator.latency_s > 0 (the "
+                  "trajectory is the same with 1 or 2)")
+      ->check(CLI::Range(1, 2))
+      ->capture_default_str();
   return [o]() {
     std::vector<std::string> settings = o->settings;
     if (!o->map.empty()) settings.push_back(MapSetting(o->map));
@@ -65,6 +71,7 @@ Runner RegisterRun(CLI::App& app) {
     options.out_dir = o->out;
     options.frames = o->frames;
     options.progress = !o->quiet;
+    options.threads = o->threads;
     std::filesystem::create_directories(o->out);
     const std::filesystem::path dir(o->out);
     // result.json marks a complete run: gone while the run goes on, written last by a rename.

@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
 #include <stdexcept>
 #include <utility>
 
@@ -30,6 +35,63 @@ planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
 }
 
 }  // namespace
+
+// One thread that runs the map-and-plan cycles one at a time. Kept for the navigator's life, so
+// that the thread-local scratch memory of the buffer and the map stays allocated.
+class Navigator::Worker {
+ public:
+  Worker() : thread_([this] { Loop(); }) {}
+  ~Worker() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+  void Start(std::function<void()> task) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      task_ = std::move(task);
+      busy_ = true;
+    }
+    wake_.notify_all();
+  }
+  // Waits for the task; rethrows what it threw.
+  void Wait() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return !busy_; });
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+
+ private:
+  void Loop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (true) {
+      wake_.wait(lock, [this] { return stop_ || task_; });
+      if (stop_) return;
+      std::function<void()> task = std::move(task_);
+      task_ = nullptr;
+      lock.unlock();
+      std::exception_ptr error;
+      try {
+        task();
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      error_ = error;
+      busy_ = false;
+      done_.notify_all();
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::function<void()> task_;
+  bool busy_ = false, stop_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;  // last: started after the rest is initialised
+};
 
 StageStats StageTimer::Stats() const {
   StageStats s;
@@ -66,6 +128,9 @@ void Navigator::Config::Validate() const {
   if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0) || !std::isfinite(progress_back_m) ||
       !std::isfinite(progress_ahead_m)) {
     fail("navigator.progress_back_m must be >= 0 and progress_ahead_m > 0");
+  }
+  if (!(latency_s >= 0.0) || !(latency_s <= 0.5 / map_rate_hz)) {
+    fail("navigator.latency_s must be in [0, half the map period]");
   }
   vehicle.Validate();
   buffer.Validate();
@@ -131,7 +196,7 @@ Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O,
   next_control_s_ = 0.0;
 }
 
-Navigator::~Navigator() = default;
+
 
 controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps) {
   if (time_s + 1e-9 >= next_control_s_) {
@@ -144,9 +209,45 @@ controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T
 }
 
 void Navigator::AddScan(Scan scan) {
+  // While a cycle runs, its buffer is not touched: the scan waits until the cycle takes effect.
+  if (job_) {
+    incoming_.push_back(std::move(scan));
+    return;
+  }
   const auto t = Clock::now();
   buffer_.Push(std::move(scan));
   t_buffer_.Add(MsSince(t));
+}
+
+// One map-and-plan cycle: what it starts from (copied when it starts, so that the caller may go on
+// driving), and what it gives (put into effect by Finish). Only the cycle touches the buffer, the map
+// backend and the planner while it runs.
+struct Navigator::Job {
+  double time_s = 0.0;
+  double effect_s = 0.0;           // when it takes effect
+  Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
+  bool following = false;          // the follower had a path it had not finished
+  double progress_m = 0.0;
+  PlanState state;
+  // Results.
+  CycleRecord record;
+  std::vector<PlanAttempt> plans;
+  std::size_t plan_calls = 0, replans_found = 0;
+  std::map<std::string, std::size_t> plan_outcomes;
+  bool planned = false;            // a map came out, so planning was timed
+  std::vector<MapStageTime> map_stages;
+  std::shared_ptr<const planner::PlanningMap> map;
+  Eigen::Isometry3d T_O_L = Eigen::Isometry3d::Identity(), T_L_B = Eigen::Isometry3d::Identity();
+  bool on_worker = false;          // runs on the worker thread
+};
+
+Navigator::~Navigator() {
+  if (job_ && job_->on_worker) {
+    try {
+      worker_->Wait();
+    } catch (...) {  // a cycle's error no one will read
+    }
+  }
 }
 
 bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
@@ -160,10 +261,87 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
     const double to_goal = (here - Eigen::Vector2d(last_goal_O_->pose.x_m, last_goal_O_->pose.y_m)).norm();
     progress_m_ = std::max(progress_m_, last_goal_O_->route_progress_m - to_goal);
   }
-  if (!(time_s + 1e-9 >= next_map_s_)) return false;
+  bool took_effect = false;
+  if (job_ && time_s + 1e-9 >= job_->effect_s) {
+    Finish();
+    took_effect = true;
+  }
+  if (!(time_s + 1e-9 >= next_map_s_)) return took_effect;
   next_map_s_ = NextTick(time_s, next_map_s_, 1.0 / config_.map_rate_hz);
-  MapCycle(time_s, T_O_B);
-  return true;
+  if (job_) {  // a caller that jumped ahead in time: the last cycle first
+    Finish();
+    took_effect = true;
+  }
+  Launch(time_s, T_O_B);
+  if (config_.latency_s <= 0.0) {
+    Finish();
+    took_effect = true;
+  }
+  return took_effect;
+}
+
+void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
+  job_ = std::make_unique<Job>();
+  Job& job = *job_;
+  job.time_s = time_s;
+  job.effect_s = time_s + config_.latency_s;
+  job.T_O_B = T_O_B;
+  job.following = follower_->has_path() && !follower_->done();
+  job.progress_m = progress_m_;
+  job.state.path_O = path_O_;
+  job.state.goal_O = goal_O_;
+  job.state.last_goal_O = last_goal_O_;
+  job.state.goal_is_route_end = goal_is_route_end_;
+  job.state.last_plan_s = last_plan_s_;
+  job.state.blocked_updates = blocked_updates_;
+  if (worker_thread_ && config_.latency_s > 0.0) {
+    if (!worker_) worker_ = std::make_unique<Worker>();
+    job.on_worker = true;
+    worker_->Start([this, &job] { MapCycle(&job); });
+  } else {
+    MapCycle(&job);
+  }
+}
+
+void Navigator::Finish() {
+  std::unique_ptr<Job> job = std::move(job_);
+  if (job->on_worker) worker_->Wait();  // rethrows what the cycle threw
+  t_buffer_.Add(job->record.prepare_ms);
+  t_mapper_.Add(job->record.map_ms);
+  for (const MapStageTime& stage : job->map_stages) {
+    auto it = std::find_if(t_map_stages_.begin(), t_map_stages_.end(), [&](const auto& s) { return s.first == stage.name; });
+    if (it == t_map_stages_.end()) it = t_map_stages_.insert(t_map_stages_.end(), {stage.name, StageTimer{}});
+    it->second.Add(stage.ms);
+  }
+  ++stats_.map_updates;
+  if (!job->record.map_ok) ++stats_.map_failures;
+  if (job->map) {
+    map_ = std::move(job->map);
+    map_T_O_L_ = job->T_O_L;
+    map_T_L_B_ = job->T_L_B;
+  }
+  if (job->planned) t_planner_.Add(job->record.plan_ms);
+  stats_.plans += job->plan_calls;
+  stats_.replans_found += job->replans_found;
+  for (const auto& [outcome, n] : job->plan_outcomes) stats_.plan_outcomes[outcome] += n;
+  for (PlanAttempt& a : job->plans) plan_log_.push_back(std::move(a));
+  cycles_.push_back(job->record);
+  PlanState& s = job->state;
+  path_O_ = std::move(s.path_O);
+  goal_O_ = s.goal_O;
+  last_goal_O_ = s.last_goal_O;
+  goal_is_route_end_ = s.goal_is_route_end;
+  last_plan_s_ = s.last_plan_s;
+  blocked_updates_ = s.blocked_updates;
+  if (s.follow == PlanState::Follow::kFollow) follower_->Follow(path_O_);
+  if (s.follow == PlanState::Follow::kClear) follower_->Clear();
+  // The scans that arrived while it ran.
+  for (Scan& scan : incoming_) {
+    const auto t = Clock::now();
+    buffer_.Push(std::move(scan));
+    t_buffer_.Add(MsSince(t));
+  }
+  incoming_.clear();
 }
 
 // What one map cycle knows: the map, its frame and the vehicle in it.
@@ -176,8 +354,10 @@ struct Navigator::Cycle {
   Vec3 L_to_O = Vec3::Zero();  // the translation of L in O
 };
 
-void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
-  CycleRecord record;
+void Navigator::MapCycle(Job* job) {
+  CycleRecord& record = job->record;
+  const double time_s = job->time_s;
+  const Eigen::Isometry3d& T_O_B = job->T_O_B;
   record.time_s = time_s;
   auto t = Clock::now();
   PointCloudBuffer::LocalCloud cloud = buffer_.Build();
@@ -195,7 +375,6 @@ void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
     AddFootprintPrior(cloud.T_O_L.inverse() * T_O_B, footprint, prep, &cloud.points_L);
   }
   record.prepare_ms = MsSince(t);
-  t_buffer_.Add(record.prepare_ms);
   record.cloud_points = cloud.points_L.size();
 
   Cycle c;
@@ -216,36 +395,28 @@ void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
   t = Clock::now();
   std::shared_ptr<const planner::PlanningMap> map = backend_->Update(cloud.points_L, context);
   record.map_ms = MsSince(t);
-  t_mapper_.Add(record.map_ms);
-  for (const MapStageTime& stage : backend_->StageTimes()) {
-    auto it = std::find_if(t_map_stages_.begin(), t_map_stages_.end(), [&](const auto& s) { return s.first == stage.name; });
-    if (it == t_map_stages_.end()) it = t_map_stages_.insert(t_map_stages_.end(), {stage.name, StageTimer{}});
-    it->second.Add(stage.ms);
-  }
-  ++stats_.map_updates;
-  if (!map) {
-    ++stats_.map_failures;
-    cycles_.push_back(record);
-    return;
-  }
+  job->map_stages = backend_->StageTimes();
+  if (!map) return;
   record.map_ok = true;
-  map_ = std::move(map);
-  map_T_O_L_ = cloud.T_O_L;
-  map_T_L_B_ = c.T_L_B;
-  c.map = map_.get();
+  job->map = std::move(map);
+  job->T_O_L = cloud.T_O_L;
+  job->T_L_B = c.T_L_B;
+  c.map = job->map.get();
+  job->planned = true;
 
+  PlanState& state = job->state;
   t = Clock::now();
   std::size_t closest = 0, blocked_index = 0;
-  const bool blocked = PathBlocked(c, T_O_B, &closest, &blocked_index);
+  const bool blocked = PathBlocked(*job, c, &closest, &blocked_index);
   planner::ReplanInputs in;
   in.now_s = time_s;
-  in.last_plan_s = last_plan_s_;
-  in.has_path = follower_->has_path() && !follower_->done();
+  in.last_plan_s = state.last_plan_s;
+  in.has_path = job->following;
   in.path_blocked = blocked;
-  blocked_updates_ = blocked ? blocked_updates_ + 1 : 0;
-  in.blocked_updates = blocked_updates_;
+  state.blocked_updates = blocked ? state.blocked_updates + 1 : 0;
+  in.blocked_updates = state.blocked_updates;
   if (blocked) {
-    const planner::PathPose at = path_O_.Poses()[blocked_index];
+    const planner::PathPose at = state.path_O.Poses()[blocked_index];
     in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - T_O_B.translation().head<2>()).norm();
     if (config_.replan.unseen_block_near_m > 0.0) {
       const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
@@ -254,43 +425,42 @@ void Navigator::MapCycle(double time_s, const Eigen::Isometry3d& T_O_B) {
           why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
     }
   }
-  in.distance_to_goal_m = goal_O_ ? (T_O_B.translation().head<2>() - *goal_O_).norm() : 0.0;
-  in.goal_is_route_end = goal_is_route_end_;
+  in.distance_to_goal_m = state.goal_O ? (T_O_B.translation().head<2>() - *state.goal_O).norm() : 0.0;
+  in.goal_is_route_end = state.goal_is_route_end;
   const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
   if (reason != planner::ReplanReason::kNone) {
     record.trigger = planner::ReplanReasonName(reason);
-    const bool found = Replan(c, reason, blocked, closest, blocked_index, &record);
+    const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
     // The old path runs into something: drive only its valid part.
-    if (!found && blocked) KeepValidPrefix(closest, blocked_index);
+    if (!found && blocked) KeepValidPrefix(&state, closest, blocked_index);
   }
   record.plan_ms = MsSince(t);
-  t_planner_.Add(record.plan_ms);
-  cycles_.push_back(record);
 }
 
-bool Navigator::PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std::size_t* closest_out,
-                            std::size_t* blocked_index) const {
-  if (!follower_->has_path() || follower_->done()) return false;
+bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest_out, std::size_t* blocked_index) const {
+  if (!job.following) return false;
   // Poses already driven past do not count: check from the pose closest to the vehicle on.
-  const auto& poses = path_O_.Poses();
+  const planner::Path& path = job.state.path_O;
+  const auto& poses = path.Poses();
   std::size_t closest = 0;
   double best = 1e300;
-  const Eigen::Vector2d v(T_O_B.translation().head<2>());
+  const Eigen::Vector2d v(job.T_O_B.translation().head<2>());
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
     if (d < best) best = d, closest = i;
   }
   *closest_out = closest;
-  const auto invalid = planner_->FirstInvalidPose(*c.map, Shifted(path_O_, -c.L_to_O), closest);
+  const auto invalid = planner_->FirstInvalidPose(*c.map, Shifted(path, -c.L_to_O), closest);
   if (!invalid) return false;
   // A planner's index past the path's end counts as its last pose.
   *blocked_index = std::min(*invalid, poses.size() - 1);
   return true;
 }
 
-bool Navigator::NewPathIsBetter(const planner::Path& new_path_L, const planner::LocalGoal& goal, std::size_t closest) const {
-  if (config_.keep_path_within_m < 0.0 || !last_goal_O_ || path_O_.empty()) return true;
-  const planner::Path rest = path_O_.Slice(closest, path_O_.Poses().size() - 1);
+bool Navigator::NewPathIsBetter(const PlanState& state, const planner::Path& new_path_L, const planner::LocalGoal& goal,
+                                std::size_t closest) const {
+  if (config_.keep_path_within_m < 0.0 || !state.last_goal_O || state.path_O.empty()) return true;
+  const planner::Path rest = state.path_O.Slice(closest, state.path_O.Poses().size() - 1);
   if (rest.empty()) return true;
   // The route left after the goal is the route's length less the goal's progress; the length is
   // the same on both sides.
@@ -299,30 +469,32 @@ bool Navigator::NewPathIsBetter(const planner::Path& new_path_L, const planner::
   };
   const bool turns_round = new_path_L.segments().front().direction != rest.segments().front().direction;
   return cost(new_path_L, goal.route_progress_m, turns_round) <
-         cost(rest, last_goal_O_->route_progress_m, false) - config_.keep_path_within_m;
+         cost(rest, state.last_goal_O->route_progress_m, false) - config_.keep_path_within_m;
 }
 
-bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
-                       std::size_t blocked_index, CycleRecord* cycle) {
+bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
+                       std::size_t blocked_index) {
+  PlanState& state = job->state;
+  CycleRecord* cycle = &job->record;
   const planner::VehicleBox& box = config_.planner.vehicle;
   std::optional<planner::LocalGoal> previous_L;
-  if (last_goal_O_) {
-    previous_L = *last_goal_O_;
-    const Vec3 p_L = c.T_L_O * Vec3(last_goal_O_->pose.x_m, last_goal_O_->pose.y_m, 0.0);
+  if (state.last_goal_O) {
+    previous_L = *state.last_goal_O;
+    const Vec3 p_L = c.T_L_O * Vec3(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m, 0.0);
     previous_L->pose.x_m = p_L.x();
     previous_L->pose.y_m = p_L.y();
   }
   const std::vector<planner::LocalGoal> goals =
       planner::SelectLocalGoals(*c.map, box, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal, previous_L,
-                                static_cast<std::size_t>(config_.goal_candidates), progress_m_);
-  last_plan_s_ = c.time_s;
+                                static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
+  state.last_plan_s = c.time_s;
   PlanAttempt record;
   record.time_s = c.time_s;
   record.reason = planner::ReplanReasonName(reason);
   record.T_L_B = c.T_L_B;
   record.vehicle_L = c.vehicle_L;
   if (blocked) {
-    const planner::PathPose at = path_O_.Poses()[blocked_index];
+    const planner::PathPose at = state.path_O.Poses()[blocked_index];
     const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
     record.blocked_at_m = std::hypot(at_L.x_m - c.vehicle_L.x_m, at_L.y_m - c.vehicle_L.y_m);
     record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, box, at_L));
@@ -330,7 +502,7 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
   // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
   bool found = false;
   for (const planner::LocalGoal& goal : goals) {
-    ++stats_.plans;
+    ++job->plan_calls;
     // At the route's end only the position matters: heading straight there is a goal too.
     std::vector<double> other_yaws;
     if (goal.is_route_end && config_.route_end_any_heading) {
@@ -341,7 +513,7 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
     std::string outcome = planner::PlanStatusName(plan.status);
     if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
     if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
-    ++stats_.plan_outcomes[outcome];
+    ++job->plan_outcomes[outcome];
     PlanAttempt attempt = record;
     attempt.has_goal = true;
     attempt.goal_L = goal.pose;
@@ -349,26 +521,26 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
     attempt.outcome = outcome;
     attempt.iterations = plan.iterations;
     attempt.state_checks = plan.state_checks;
-    plan_log_.push_back(attempt);
+    job->plans.push_back(attempt);
     cycle->outcome = outcome;
     if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
-        !NewPathIsBetter(plan.path, goal, closest)) {
+        !NewPathIsBetter(state, plan.path, goal, closest)) {
       // The current path stands: what is left of it is as good.
-      plan_log_.back().outcome = cycle->outcome = "kept current";
-      ++stats_.plan_outcomes["kept current"];
+      job->plans.back().outcome = cycle->outcome = "kept current";
+      ++job->plan_outcomes["kept current"];
       found = true;
       break;
     }
     if (plan.found() && !plan.path.empty()) {
-      ++stats_.replans_found;
-      path_O_ = Shifted(plan.path, c.L_to_O);
-      follower_->Follow(path_O_);
-      blocked_updates_ = 0;  // a new path
-      goal_O_ = Eigen::Vector2d(goal.pose.x_m + c.L_to_O.x(), goal.pose.y_m + c.L_to_O.y());
-      goal_is_route_end_ = goal.is_route_end;
-      last_goal_O_ = goal;
-      last_goal_O_->pose.x_m = goal_O_->x();
-      last_goal_O_->pose.y_m = goal_O_->y();
+      ++job->replans_found;
+      state.path_O = Shifted(plan.path, c.L_to_O);
+      state.follow = PlanState::Follow::kFollow;
+      state.blocked_updates = 0;  // a new path
+      state.goal_O = Eigen::Vector2d(goal.pose.x_m + c.L_to_O.x(), goal.pose.y_m + c.L_to_O.y());
+      state.goal_is_route_end = goal.is_route_end;
+      state.last_goal_O = goal;
+      state.last_goal_O->pose.x_m = state.goal_O->x();
+      state.last_goal_O->pose.y_m = state.goal_O->y();
       found = true;
       break;
     }
@@ -376,33 +548,33 @@ bool Navigator::Replan(const Cycle& c, planner::ReplanReason reason, bool blocke
     if (plan.status == planner::PlanStatus::kStartInvalid) break;
   }
   if (goals.empty()) {
-    ++stats_.plan_outcomes["no_local_goal"];
+    ++job->plan_outcomes["no_local_goal"];
     record.outcome = "no_local_goal";
-    plan_log_.push_back(record);
+    job->plans.push_back(record);
     cycle->outcome = record.outcome;
   }
-  if (!found) last_goal_O_.reset();  // no path to it: do not hold on to it
+  if (!found) state.last_goal_O.reset();  // no path to it: do not hold on to it
   return found;
 }
 
 // A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to
 // `blocked_stop_short_m` before it, or stand still if that is where the vehicle is.
-void Navigator::KeepValidPrefix(std::size_t closest, std::size_t blocked_index) {
-  const auto& poses = path_O_.Poses();
+void Navigator::KeepValidPrefix(PlanState* state, std::size_t closest, std::size_t blocked_index) const {
+  const auto& poses = state->path_O.Poses();
   std::size_t last = blocked_index;
   double back = 0.0;
   while (last > closest && back < config_.blocked_stop_short_m) {
     back += std::hypot(poses[last].pose.x_m - poses[last - 1].pose.x_m, poses[last].pose.y_m - poses[last - 1].pose.y_m);
     --last;
   }
-  planner::Path prefix = back >= config_.blocked_stop_short_m ? path_O_.Slice(closest, last) : planner::Path{};
+  planner::Path prefix = back >= config_.blocked_stop_short_m ? state->path_O.Slice(closest, last) : planner::Path{};
   if (prefix.empty() || prefix.Length() < config_.min_prefix_m) {
-    follower_->Clear();
-    path_O_ = planner::Path{};
+    state->follow = PlanState::Follow::kClear;
+    state->path_O = planner::Path{};
     return;
   }
-  path_O_ = std::move(prefix);
-  follower_->Follow(path_O_);
+  state->path_O = std::move(prefix);
+  state->follow = PlanState::Follow::kFollow;
 }
 
 void Navigator::ClearRecords() {

@@ -62,6 +62,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   const navigation::Navigator::Config nav_config = NavigatorConfigFor(scenario, seed);
   navigation::Navigator nav(nav_config, scenario.route_m,
                             options.make_plugins ? options.make_plugins(nav_config) : navigation::Navigator::Plugins{});
+  nav.RunCyclesOnAWorkerThread(options.threads >= 2);
   Referee referee(scenario, sim_config.vehicle, sim.T_W_B());
   Recorder recorder(scenario, options, sim, &result);
   navigation::StageTimer t_physics;
@@ -83,7 +84,8 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
     const Eigen::Isometry3d T_W_B = sim.T_W_B();
     referee.Observe(time, T_W_B, sim.BodyContacts());
     recorder.Trajectory(now, time, sim, command);
-    if (nav.Update(time, sim.T_O_B())) recorder.MapCycle(time, T_W_B, nav);
+    const Eigen::Isometry3d T_O_B = sim.T_O_B();
+    if (nav.Update(time, T_O_B)) recorder.MapCycle(time, T_W_B * T_O_B.inverse(), nav);
     recorder.Frame(time, sim, nav);
 
     if (options.progress && time >= next_progress_s) {

@@ -39,12 +39,13 @@ void Recorder::Trajectory(double now_s, double time_s, const sim::Simulator& sim
       {time_s, sim.T_W_B(), sim.T_O_B(), sim.forward_speed_mps(), command.steering_rad, command.speed_mps});
 }
 
-void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const navigation::Navigator& navigator) {
-  // The planner's calls of this cycle, placed in the world by the truth now.
+void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const navigation::Navigator& navigator) {
+  // The planner's calls of this cycle, placed in the world by the odometry's error now (the cycle
+  // may have started a latency earlier: its frame L is placed through O, not through the vehicle).
+  const Eigen::Isometry3d T_W_L = T_W_O * navigator.map_T_O_L();
   const auto& log = navigator.plan_log();
   for (; plans_seen_ < log.size(); ++plans_seen_) {
     const navigation::PlanAttempt& a = log[plans_seen_];
-    const Eigen::Isometry3d T_W_L = T_W_B * a.T_L_B.inverse();
     PlanRecord r;
     r.time_s = a.time_s;
     r.reason = a.reason;
@@ -63,7 +64,6 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const nav
   maps_seen_ = navigator.map_count();
   const navigation::MapView view = navigator.map_backend().View();
   if (!view.points_L) return;
-  const Eigen::Isometry3d T_W_L = T_W_B * (navigator.map_T_L_B().inverse());
   const auto& pts = *view.points_L;
   // A map without flags (a user's backend may have none) is drawn as traversable.
   const auto traversable = [&view](std::size_t i) {

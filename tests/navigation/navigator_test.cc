@@ -359,6 +359,14 @@ TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   Navigator::Config elevation;
   elevation.elevation.map.normal_radius_m = -1.0;
   EXPECT_THROW(Navigator(elevation, {{0.0, 0.0}}), std::invalid_argument);
+  for (const double latency : {-0.01, 0.11, std::nan("")}) {  // at most half of 5 Hz's 0.2 s
+    Navigator::Config late;
+    late.latency_s = latency;
+    EXPECT_THROW(Navigator(late, {{0.0, 0.0}}), std::invalid_argument) << latency;
+  }
+  Navigator::Config half;
+  half.latency_s = 0.1;
+  EXPECT_NO_THROW(Navigator(half, {{0.0, 0.0}}));
 }
 
 }  // namespace

@@ -30,6 +30,35 @@ TEST(ClosedLoopTest, SameScenarioAndSeedGiveABitIdenticalTrajectory) {
   EXPECT_GT(a.distance_m, 0.5) << "the vehicle should have set off";
 }
 
+// With a latency the map-and-plan cycle may run beside the simulation: the trajectory depends on
+// the latency, never on the thread it ran on.
+TEST(ClosedLoopTest, ALatencyGivesTheSameTrajectoryWithOneThreadOrTwo) {
+  const Scenario s = ParseScenario(kShort, "short.yaml", {"time_limit_s=6", "navigator.latency_s=0.1"});
+  RunOptions one, two;
+  two.threads = 2;
+  const RunResult a = RunClosedLoop(s, 3, one);
+  const RunResult b = RunClosedLoop(s, 3, two);
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  ASSERT_GT(a.trajectory.size(), 10u);
+  for (std::size_t i = 0; i < a.trajectory.size(); ++i) {
+    ASSERT_EQ(a.trajectory[i].T_W_B.matrix(), b.trajectory[i].T_W_B.matrix()) << "row " << i;
+    ASSERT_EQ(a.trajectory[i].cmd_steering_rad, b.trajectory[i].cmd_steering_rad);
+  }
+  EXPECT_EQ(a.plan_log.size(), b.plan_log.size());
+  EXPECT_GT(a.distance_m, 0.5) << "the vehicle should have set off";
+  // The latency is a fact of the run: without it the vehicle sets off 0.1 s earlier.
+  const RunResult none = RunClosedLoop(ParseScenario(kShort, "short.yaml", {"time_limit_s=6"}), 3, one);
+  ASSERT_FALSE(none.plan_log.empty());
+  const auto first_moving = [](const RunResult& r) {
+    for (const auto& row : r.trajectory) {
+      if (row.cmd_speed_mps > 0.0) return row.time_s;
+    }
+    return -1.0;
+  };
+  EXPECT_NEAR(first_moving(a) - first_moving(none), 0.1, 0.1 + 1e-9);
+  EXPECT_GT(first_moving(a), first_moving(none));
+}
+
 TEST(ClosedLoopTest, ReachesAGoalOnFlatGroundAndScoresIt) {
   const Scenario s = ParseScenario(kShort, "short.yaml");
   const RunResult r = RunClosedLoop(s, 1, RunOptions{});

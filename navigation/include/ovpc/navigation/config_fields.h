@@ -216,6 +216,7 @@ void VisitFields(V& v, Navigator::Config& c) {
   v.Field("cusp_cost_m", c.cusp_cost_m);
   v.Field("progress_back_m", c.progress_back_m);
   v.Field("progress_ahead_m", c.progress_ahead_m);
+  v.Field("latency_s", c.latency_s);
 }
 
 }  // namespace ovpc::navigation

@@ -142,6 +142,12 @@ class Navigator {
     /// route passing near itself is not taken as done when the vehicle cuts across.
     double progress_back_m = 5.0;
     double progress_ahead_m = 10.0;
+    /// The map-and-plan cycle started from the data up to time t takes effect (its path is driven)
+    /// at t + latency_s, as on a robot that maps and plans while it drives; in between, the vehicle
+    /// follows the previous path. The trajectory depends on this value, never on whether the cycle
+    /// ran on another thread (RunCyclesOnAWorkerThread). 0: at once (the cycle costs no time). At
+    /// most half the map period.
+    double latency_s = 0.0;
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
     /// The config with every geometry field derived from `vehicle` (what the navigator runs with).
@@ -168,9 +174,13 @@ class Navigator {
   controller::Command Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps);
   /// Buffers one LiDAR scan (points in the sensor frame with the sensor's odometry pose).
   void AddScan(Scan scan);
-  /// Tracks route progress at `T_O_B` and, when a map cycle is due at `time_s`, maps and plans.
-  /// Returns true if a map cycle ran.
+  /// Tracks route progress at `T_O_B`; when a map cycle is due at `time_s`, starts one (mapping and
+  /// planning from the scans so far), and when a cycle's Config::latency_s has passed, waits for it
+  /// and puts its result into effect. Returns true if a cycle's result took effect.
   bool Update(double time_s, const Eigen::Isometry3d& T_O_B);
+  /// With `on` and a latency, each map-and-plan cycle runs on a thread of its own while the caller
+  /// goes on (Control, AddScan, Update); the result is the same as without. Off by default.
+  void RunCyclesOnAWorkerThread(bool on) { worker_thread_ = on; }
 
   // What a user looks at.
   const controller::Command& command() const { return command_; }
@@ -191,7 +201,8 @@ class Navigator {
   const MapBackend& map_backend() const { return *backend_; }
   /// Route progress of the odometry pose, m.
   double route_progress_m() const { return progress_m_; }
-  /// Every planner call and every cycle since the start or the last ClearRecords.
+  /// Every planner call and every cycle since the start or the last ClearRecords (cycles whose result
+  /// has taken effect).
   const std::vector<PlanAttempt>& plan_log() const { return plan_log_; }
   const std::vector<CycleRecord>& cycles() const { return cycles_; }
   /// Drops the records and stage timings kept so far (a robot that logs them elsewhere calls this
@@ -203,15 +214,31 @@ class Navigator {
   const Config& config() const { return config_; }
 
  private:
-  void MapCycle(double time_s, const Eigen::Isometry3d& T_O_B);
-  // Map-frame helpers of one cycle.
-  struct Cycle;
-  bool PathBlocked(const Cycle& c, const Eigen::Isometry3d& T_O_B, std::size_t* closest, std::size_t* blocked_index) const;
-  bool Replan(const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest, std::size_t blocked_index,
-              CycleRecord* record);
+  // The re-planning state a cycle reads and changes: copied into a cycle when it starts, put back
+  // when its result takes effect.
+  struct PlanState {
+    planner::Path path_O;
+    std::optional<Eigen::Vector2d> goal_O;          // the local goal the current path leads to
+    std::optional<planner::LocalGoal> last_goal_O;  // kept for the next goal selection
+    bool goal_is_route_end = false;
+    std::optional<double> last_plan_s;
+    int blocked_updates = 0;                        // map cycles in a row that found the path blocked
+    enum class Follow { kKeep, kFollow, kClear };
+    Follow follow = Follow::kKeep;                  // what the follower is told when it takes effect
+  };
+  struct Job;    // one cycle: its inputs, state and results
+  class Worker;  // the thread cycles run on (RunCyclesOnAWorkerThread)
+  struct Cycle;  // map-frame helpers of one cycle
+  void Launch(double time_s, const Eigen::Isometry3d& T_O_B);
+  void Finish();
+  void MapCycle(Job* job);
+  bool PathBlocked(const Job& job, const Cycle& c, std::size_t* closest, std::size_t* blocked_index) const;
+  bool Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
+              std::size_t blocked_index);
   /// Periodic re-plans: is the new path (to `goal`) worth more than what is left of the current one?
-  bool NewPathIsBetter(const planner::Path& new_path_L, const planner::LocalGoal& goal, std::size_t closest) const;
-  void KeepValidPrefix(std::size_t closest, std::size_t blocked_index);
+  bool NewPathIsBetter(const PlanState& state, const planner::Path& new_path_L, const planner::LocalGoal& goal,
+                       std::size_t closest) const;
+  void KeepValidPrefix(PlanState* state, std::size_t closest, std::size_t blocked_index) const;
 
   Config config_;
   std::vector<Eigen::Vector2d> route_O_;
@@ -223,14 +250,19 @@ class Navigator {
   // Timing of the cycles (simulated or robot time).
   double next_map_s_ = 0.0, next_control_s_ = 0.0;
   controller::Command command_;
-  // Re-planning state.
+  // Re-planning state (in effect).
   planner::Path path_O_;
-  std::optional<Eigen::Vector2d> goal_O_;          // the local goal the current path leads to
-  std::optional<planner::LocalGoal> last_goal_O_;  // kept for the next goal selection
+  std::optional<Eigen::Vector2d> goal_O_;
+  std::optional<planner::LocalGoal> last_goal_O_;
   bool goal_is_route_end_ = false;
   std::optional<double> last_plan_s_;
-  int blocked_updates_ = 0;                        // map cycles in a row that found the path blocked
+  int blocked_updates_ = 0;
   double progress_m_ = 0.0;
+  // The cycle started and not yet in effect, and the scans that arrived meanwhile.
+  std::unique_ptr<Job> job_;
+  std::vector<Scan> incoming_;
+  bool worker_thread_ = false;
+  std::unique_ptr<Worker> worker_;
   // The latest map.
   std::shared_ptr<const planner::PlanningMap> map_;
   Eigen::Isometry3d map_T_O_L_ = Eigen::Isometry3d::Identity();

@@ -91,6 +91,9 @@ struct RunOptions {
   bool frames = false;    ///< rendered chase-camera PNG frames (needs EGL)
   double frame_period_s = 0.5;
   bool progress = false;  ///< a progress line on stderr
+  /// 2: the navigator's map-and-plan cycles run on a thread of their own when the configuration
+  /// has a latency (navigator.latency_s > 0); the trajectory is the same with 1.
+  int threads = 1;
 };
 
 /// The navigator's configuration for a run: the scenario's, with the planner seeded from `seed` and

@@ -24,8 +24,9 @@ class Recorder {
 
   /// A trajectory row when one is due (`now_s`: the step's start; the row carries `time_s`, after it).
   void Trajectory(double now_s, double time_s, const sim::Simulator& sim, const controller::Command& command);
-  /// After a map cycle: the plans it made and the map it built, in the world frame by the truth now.
-  void MapCycle(double time_s, const Eigen::Isometry3d& T_W_B, const navigation::Navigator& navigator);
+  /// After a map cycle took effect: the plans it made and the map it built, placed in the world through
+  /// `T_W_O`, the odometry frame in the world now.
+  void MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const navigation::Navigator& navigator);
   /// A chase-camera frame when one is due (RunOptions::frames).
   void Frame(double time_s, const sim::Simulator& sim, const navigation::Navigator& navigator);
 
