@@ -46,6 +46,7 @@ struct Options {
   std::vector<std::string> skip_labels;
   std::string preset;
   std::string map;  // --map: every run's backend ("" = each scenario's configuration)
+  int threads = 1;  // --threads: each run's (ovpc run --threads)
   std::string out = "out/suite";
   std::size_t samples = 6;
   std::uint64_t family_seed = 1;
@@ -298,6 +299,10 @@ void Start(Job& job, const Options& o, const std::string& self) {
     args.push_back("--map");
     args.push_back(o.map);
   }
+  if (o.threads != 1) {
+    args.push_back("--threads");
+    args.push_back(std::to_string(o.threads));
+  }
   job.pid = Spawn(args, (fs::path(job.out_dir) / "run.log").string());
 }
 
@@ -375,6 +380,10 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--map", o->map,
                   "The map backend of every run: ovpc, octomap or elevation (default: each run's configuration; "
                   "--sweep navigator.map=ovpc,octomap,elevation compares them)");
+  cmd->add_option("--threads", o->threads,
+                  "Threads of each run (ovpc run --threads); keep 1 when --jobs fill the cores")
+      ->check(CLI::Range(1, 2))
+      ->capture_default_str();
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
   cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")
