@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -28,7 +29,8 @@ inline std::string FormatNumber(double v) {
   for (int digits = 1; digits <= 17; ++digits) {
     std::ostringstream s;
     s << std::setprecision(digits) << v;
-    if (std::stod(s.str()) == v) return s.str();
+    // strtod, not stod: a subnormal value reads back with ERANGE, which stod throws on.
+    if (std::strtod(s.str().c_str(), nullptr) == v) return s.str();
   }
   return std::to_string(v);
 }

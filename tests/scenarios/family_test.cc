@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <sstream>
@@ -187,6 +188,18 @@ TEST_F(FamilyTest, GridIsTheProductOfTheGridParametersTimesTheSamples) {
   for (const auto& [point, count] : points) EXPECT_EQ(count, 2) << point;
   EXPECT_EQ(draws[11].index, 11u);
   EXPECT_EQ(DrawFolder(draws[11].index), "draw_011");
+}
+
+TEST_F(FamilyTest, ASubnormalValueIsDrawnAndWrittenNotAnAbort) {
+  // Found by fuzzing: a grid value of 1e-320 made the number formatting throw out of the draw
+  // (std::stod reports the underflow of a subnormal as out of range) and the program aborted.
+  const std::string text = Replaced(kFamily, "  roof_m: {uniform: [1.5, 3.5]}", "  roof_m: {grid: [1e-320, 2.6]}");
+  const Family f = ParseFamily(text, "fam.yaml");
+  const auto draws = DrawFamily(f, {1, 1});
+  ASSERT_EQ(draws.size(), 2u);
+  EXPECT_EQ(draws[0].values[0].second.number, 1e-320);
+  EXPECT_EQ(std::strtod(draws[0].values[0].second.ToString().c_str(), nullptr), 1e-320);
+  WriteDraws(f, draws, (dir_ / "subnormal").string());
 }
 
 TEST_F(FamilyTest, AGridTooLargeToCountIsRefusedNotWrapped) {
