@@ -335,13 +335,10 @@ void Navigator::Finish() {
   blocked_updates_ = s.blocked_updates;
   if (s.follow == PlanState::Follow::kFollow) follower_->Follow(path_O_);
   if (s.follow == PlanState::Follow::kClear) follower_->Clear();
-  // The scans that arrived while it ran.
-  for (Scan& scan : incoming_) {
-    const auto t = Clock::now();
-    buffer_.Push(std::move(scan));
-    t_buffer_.Add(MsSince(t));
-  }
+  // The scans that arrived while it ran (no cycle runs now: they go into the buffer).
+  std::vector<Scan> incoming = std::move(incoming_);
   incoming_.clear();
+  for (Scan& scan : incoming) AddScan(std::move(scan));
 }
 
 // What one map cycle knows: the map, its frame and the vehicle in it.
