@@ -255,47 +255,267 @@ Points Subsample(const Points& points, std::size_t max_points, std::uint64_t see
   return out;
 }
 
-PointCloudBuffer::PointCloudBuffer(const Config& config) : config_(config) { config_.Validate(); }
+// The voxels of the buffered scans, in a grid fixed in frame O. Voxels live in a vector (a freed one
+// is reused) and an open-addressing table maps a voxel's index triple to it; removal shifts the
+// probe sequence back, so the table never fills with tombstones.
+class PointCloudBuffer::Grid {
+ public:
+  static constexpr double kSteps = 1048576.0;  // 2^20 positions along a voxel edge
+  // Voxel k spans [k - shift, k + 1 - shift) voxel edges along each axis of O. Vertically the grid is
+  // shifted by half a voxel: O's origin is on the ground the vehicle starts on, and flat ground at
+  // a voxel boundary would split into two layers of centroids (one each side, a noise's width apart).
+  static constexpr double kShift[3] = {0.0, 0.0, 0.5};
+
+  struct Voxel {
+    std::int32_t key[3];
+    std::uint32_t count;  // 0: free
+    std::int64_t sum[3];  // of the points' positions in the voxel, in 1 / kSteps of its edge
+  };
+
+  explicit Grid(double voxel_size_m) : size_(voxel_size_m), inv_(1.0 / voxel_size_m) {
+    slots_.assign(1024, Slot{0, 0});
+    mask_ = slots_.size() - 1;
+  }
+
+  /// Puts p_O into its voxel; false (nothing changed) when its index is beyond int32.
+  bool Add(const Vec3& p_O, Entry* entry) {
+    std::int32_t key[3];
+    if (!Locate(p_O, key, entry)) return false;
+    Insert(key, static_cast<std::uint32_t>(Hash(key)), entry);
+    return true;
+  }
+
+  /// Add for n <= kBatch points at once: their slots are prefetched first, so that the cache misses
+  /// overlap. ok[i] says whether point i was added.
+  static constexpr std::size_t kBatch = 16;
+  void AddBatch(const Vec3* p_O, std::size_t n, Entry* entries, bool* ok) {
+    std::int32_t keys[kBatch][3];
+    std::uint32_t hashes[kBatch];
+    for (std::size_t i = 0; i < n; ++i) {
+      ok[i] = Locate(p_O[i], keys[i], &entries[i]);
+      hashes[i] = ok[i] ? static_cast<std::uint32_t>(Hash(keys[i])) : 0u;
+      __builtin_prefetch(&slots_[hashes[i] & mask_]);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ok[i]) Insert(keys[i], hashes[i], &entries[i]);
+    }
+  }
+
+  /// Remove for n <= kBatch entries at once (their voxels prefetched first).
+  void RemoveBatch(const Entry* entries, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) __builtin_prefetch(&voxels_[entries[i].voxel]);
+    for (std::size_t i = 0; i < n; ++i) Remove(entries[i]);
+  }
+
+  void Remove(const Entry& e) {
+    Voxel& v = voxels_[e.voxel];
+    for (int a = 0; a < 3; ++a) v.sum[a] -= e.q[a];
+    if (--v.count == 0) Free(e.voxel);
+  }
+
+  /// The centroid of a voxel's hits in frame O.
+  Vec3 Centroid(const Voxel& v) const {
+    const double n = static_cast<double>(v.count);
+    Vec3 c;
+    for (int a = 0; a < 3; ++a) {
+      c[a] = size_ * (static_cast<double>(v.key[a]) - kShift[a] + (static_cast<double>(v.sum[a]) + 0.5 * n) / (n * kSteps));
+    }
+    return c;
+  }
+
+  static std::uint64_t Hash(const std::int32_t key[3]) {
+    return Mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(key[0])) * 0x9e3779b97f4a7c15ULL ^
+               static_cast<std::uint64_t>(static_cast<std::int64_t>(key[1])) * 0xc2b2ae3d27d4eb4fULL ^
+               static_cast<std::uint64_t>(static_cast<std::int64_t>(key[2])) * 0x165667b19e3779f9ULL);
+  }
+
+  const std::vector<Voxel>& voxels() const { return voxels_; }
+
+ private:
+  struct Slot {
+    std::uint32_t voxel_plus_1;  // 0: empty
+    std::uint32_t hash;          // the low 32 bits of the key's hash: home slot and fingerprint
+  };
+
+  // The voxel index of p_O and its position in the voxel; false when an index is beyond int32.
+  bool Locate(const Vec3& p_O, std::int32_t key[3], Entry* entry) const {
+    for (int a = 0; a < 3; ++a) {
+      const double f = p_O[a] * inv_ + kShift[a];
+      if (!(f >= -2147483648.0 && f < 2147483648.0)) return false;
+      auto t = static_cast<std::int64_t>(f);  // floor without a library call
+      if (static_cast<double>(t) > f) --t;
+      key[a] = static_cast<std::int32_t>(t);
+      // f - t is exact (and in [0, 1)); the scaling by 2^20 too.
+      entry->q[a] = std::min(static_cast<std::uint32_t>((f - static_cast<double>(t)) * kSteps),
+                             static_cast<std::uint32_t>(kSteps) - 1);
+    }
+    return true;
+  }
+
+  void Insert(const std::int32_t key[3], std::uint32_t hash, Entry* entry) {
+    const std::uint32_t id = FindOrInsert(key, hash);
+    Voxel& v = voxels_[id];
+    ++v.count;
+    for (int a = 0; a < 3; ++a) v.sum[a] += entry->q[a];
+    entry->voxel = id;
+  }
+
+  std::uint32_t FindOrInsert(const std::int32_t key[3], std::uint32_t hash) {
+    std::size_t slot = hash & mask_;
+    while (slots_[slot].voxel_plus_1 != 0) {
+      const Slot& s = slots_[slot];
+      if (s.hash == hash) {
+        const Voxel& v = voxels_[s.voxel_plus_1 - 1];
+        if (v.key[0] == key[0] && v.key[1] == key[1] && v.key[2] == key[2]) return s.voxel_plus_1 - 1;
+      }
+      slot = (slot + 1) & mask_;
+    }
+    std::uint32_t id;
+    if (!free_.empty()) {
+      id = free_.back();
+      free_.pop_back();
+    } else {
+      id = static_cast<std::uint32_t>(voxels_.size());
+      voxels_.emplace_back();
+    }
+    voxels_[id] = Voxel{{key[0], key[1], key[2]}, 0u, {0, 0, 0}};
+    slots_[slot] = Slot{id + 1, hash};
+    if (2 * ++live_ > slots_.size()) Grow();
+    return id;
+  }
+
+  void Free(std::uint32_t id) {
+    const Voxel& v = voxels_[id];
+    std::size_t hole = static_cast<std::uint32_t>(Hash(v.key)) & mask_;
+    while (slots_[hole].voxel_plus_1 != id + 1) hole = (hole + 1) & mask_;
+    // Backward shift: move up every later slot of the run that may live in the hole.
+    for (std::size_t j = (hole + 1) & mask_; slots_[j].voxel_plus_1 != 0; j = (j + 1) & mask_) {
+      const std::size_t home = slots_[j].hash & mask_;
+      if (((j - home) & mask_) >= ((j - hole) & mask_)) {
+        slots_[hole] = slots_[j];
+        hole = j;
+      }
+    }
+    slots_[hole] = Slot{0, 0};
+    free_.push_back(id);
+    --live_;
+  }
+
+  void Grow() {
+    std::vector<Slot> old = std::move(slots_);
+    slots_.assign(2 * old.size(), Slot{0, 0});
+    mask_ = slots_.size() - 1;
+    for (const Slot& s : old) {
+      if (s.voxel_plus_1 == 0) continue;
+      std::size_t slot = s.hash & mask_;
+      while (slots_[slot].voxel_plus_1 != 0) slot = (slot + 1) & mask_;
+      slots_[slot] = s;
+    }
+  }
+
+  double size_, inv_;
+  std::vector<Voxel> voxels_;
+  std::vector<std::uint32_t> free_;
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0;
+  std::size_t live_ = 0;
+};
+
+PointCloudBuffer::PointCloudBuffer(const Config& config) : config_(config) {
+  config_.Validate();
+  if (config_.voxel_size_m > 0.0) grid_ = std::make_unique<Grid>(config_.voxel_size_m);
+}
+
+PointCloudBuffer::~PointCloudBuffer() = default;
+PointCloudBuffer::PointCloudBuffer(PointCloudBuffer&&) noexcept = default;
+PointCloudBuffer& PointCloudBuffer::operator=(PointCloudBuffer&&) noexcept = default;
+
+void PointCloudBuffer::Clear() {
+  scans_.clear();
+  if (grid_) grid_ = std::make_unique<Grid>(config_.voxel_size_m);
+}
 
 void PointCloudBuffer::Push(Scan scan) {
   if (!scan.T_O_S.matrix().allFinite()) {
     throw std::invalid_argument("PointCloudBuffer::Push: scan pose is not finite");
   }
+  // The oldest leaves first, so that its voxels are free for the new scan.
+  while (scans_.size() >= static_cast<std::size_t>(config_.max_scans)) {
+    if (grid_) {
+      const std::vector<Entry>& entries = scans_.front().entries;
+      for (std::size_t i = 0; i < entries.size(); i += Grid::kBatch) {
+        grid_->RemoveBatch(&entries[i], std::min(Grid::kBatch, entries.size() - i));
+      }
+    }
+    scans_.pop_front();
+  }
   Stored stored;
-  const std::size_t before = scan.points_S.size();
-  scan.points_S.erase(std::remove_if(scan.points_S.begin(), scan.points_S.end(),
-                                     [](const Vec3& p) { return !IsFinite(p); }),
-                      scan.points_S.end());
-  stored.non_finite = before - scan.points_S.size();
-  stored.scan = std::move(scan);
+  stored.T_O_S = scan.T_O_S;
+  stored.time_s = scan.time_s;
+  stored.input = scan.points_S.size();
+  if (grid_) {
+    stored.entries.reserve(scan.points_S.size());
+    constexpr std::size_t kBatch = Grid::kBatch;
+    Vec3 batch_O[kBatch];
+    Entry entries[kBatch];
+    bool ok[kBatch];
+    std::size_t n = 0;
+    const auto flush = [&] {
+      grid_->AddBatch(batch_O, n, entries, ok);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (ok[i]) {
+          stored.entries.push_back(entries[i]);
+        } else {
+          ++stored.out_of_grid;
+        }
+      }
+      n = 0;
+    };
+    for (const Vec3& p_S : scan.points_S) {
+      if (!IsFinite(p_S)) {
+        ++stored.non_finite;
+        continue;
+      }
+      batch_O[n++] = scan.T_O_S * p_S;
+      if (n == kBatch) flush();
+    }
+    if (n > 0) flush();
+  } else {
+    scan.points_S.erase(std::remove_if(scan.points_S.begin(), scan.points_S.end(),
+                                       [](const Vec3& p) { return !IsFinite(p); }),
+                        scan.points_S.end());
+    stored.non_finite = stored.input - scan.points_S.size();
+    stored.points_S = std::move(scan.points_S);
+  }
   scans_.push_back(std::move(stored));
-  while (scans_.size() > static_cast<std::size_t>(config_.max_scans)) scans_.pop_front();
 }
 
 PointCloudBuffer::LocalCloud PointCloudBuffer::Build() const {
   LocalCloud result;
   if (scans_.empty()) return result;
-  const Scan& newest = scans_.back().scan;
+  const Stored& newest = scans_.back();
   result.time_s = newest.time_s;
   // L: origin at the newest sensor position, axes of the gravity-aligned odometry frame.
   result.T_O_L = Eigen::Isometry3d::Identity();
   result.T_O_L.translation() = newest.T_O_S.translation();
-  const Eigen::Isometry3d T_L_O = result.T_O_L.inverse();
+  const Vec3 origin_O = newest.T_O_S.translation();
   const double r2 = config_.crop_radius_m * config_.crop_radius_m;
 
   BufferStats& stats = result.stats;
   std::size_t total = 0;
   for (const Stored& s : scans_) {
-    total += s.scan.points_S.size();
-    stats.input += s.scan.points_S.size() + s.non_finite;
+    total += s.points_S.size();
+    stats.input += s.input;
     stats.non_finite += s.non_finite;
+    stats.out_of_range += s.out_of_grid;
   }
-  if (!(config_.voxel_size_m > 0.0)) {
+  if (!grid_) {
+    const Eigen::Isometry3d T_L_O = result.T_O_L.inverse();
     Points merged_L;
     merged_L.reserve(total);
     for (const Stored& s : scans_) {
-      const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
-      for (const Vec3& p_S : s.scan.points_S) {
+      const Eigen::Isometry3d T_L_S = T_L_O * s.T_O_S;
+      for (const Vec3& p_S : s.points_S) {
         const Vec3 p_L = T_L_S * p_S;
         if (p_L.squaredNorm() > r2) {
           ++stats.out_of_range;
@@ -309,38 +529,49 @@ PointCloudBuffer::LocalCloud PointCloudBuffer::Build() const {
     return result;
   }
 
-  // Transform, crop and voxel hits in one pass over the scans, oldest first: the same points in the
-  // same order as merging the scans and filtering the merged cloud. Points go into the voxels in
-  // batches (see AddBatch).
-  const auto merge = [&](auto& voxels) {
-    constexpr std::size_t kBatch = std::remove_reference_t<decltype(voxels)>::kBatch;
-    voxels.Reset(config_.voxel_size_m, total);
-    Vec3 batch_L[kBatch];
-    std::size_t batched = 0;
-    for (const Stored& s : scans_) {
-      const Eigen::Isometry3d T_L_S = T_L_O * s.scan.T_O_S;
-      for (const Vec3& p_S : s.scan.points_S) {
-        const Vec3 p_L = T_L_S * p_S;
-        if (p_L.squaredNorm() > r2) {
-          ++stats.out_of_range;
-          continue;
-        }
-        batch_L[batched++] = p_L;
-        if (batched == kBatch) {
-          voxels.AddBatch(batch_L, batched);
-          batched = 0;
-        }
-      }
+  // The voxels with enough hits within the crop radius, with the rank that subsampling keeps by.
+  const auto far_count = static_cast<std::uint32_t>(config_.min_hits);
+  const auto near_count = static_cast<std::uint32_t>(std::max(config_.min_hits, config_.near_min_hits));
+  const double near2 = config_.near_range_m * config_.near_range_m;
+  const std::uint64_t salt = Mix(config_.seed);
+  thread_local Points kept_L;
+  thread_local std::vector<std::uint64_t> ranks;
+  kept_L.clear();
+  ranks.clear();
+  for (const Grid::Voxel& v : grid_->voxels()) {
+    if (v.count < far_count) {  // free voxels have 0
+      stats.voxel_sparse += v.count;
+      continue;
     }
-    if (batched > 0) voxels.AddBatch(batch_L, batched);
-    voxels.Extract(config_.min_hits, config_.max_points, config_.seed, &result.points_L, &stats, config_.near_range_m,
-                   config_.near_min_hits);
-  };
-  // The crop bounds every coordinate (with a margin for rounding).
-  if (KeysFitInt32(1.001 * config_.crop_radius_m + 1.0, config_.voxel_size_m)) {
-    merge(ScratchVoxels<std::int32_t>());
+    const Vec3 p_L = grid_->Centroid(v) - origin_O;
+    const double d2 = p_L.squaredNorm();
+    if (d2 > r2) {
+      stats.out_of_range += v.count;
+      continue;
+    }
+    if (v.count < near_count && d2 < near2) {
+      stats.voxel_sparse += v.count;
+      continue;
+    }
+    kept_L.push_back(p_L);
+    ranks.push_back(Mix(salt ^ Grid::Hash(v.key)));
+  }
+  stats.voxels_kept = kept_L.size();
+  if (kept_L.size() <= config_.max_points) {
+    result.points_L = kept_L;
   } else {
-    merge(ScratchVoxels<std::int64_t>());
+    // The max_points smallest ranks (64-bit hashes of the index triple: a tie is rare, and the count
+    // bound holds even then).
+    thread_local std::vector<std::uint64_t> sorted;
+    sorted = ranks;
+    const auto nth = sorted.begin() + static_cast<std::ptrdiff_t>(config_.max_points - 1);
+    std::nth_element(sorted.begin(), nth, sorted.end());
+    const std::uint64_t threshold = *nth;
+    result.points_L.reserve(config_.max_points);
+    for (std::size_t i = 0; i < kept_L.size() && result.points_L.size() < config_.max_points; ++i) {
+      if (ranks[i] <= threshold) result.points_L.push_back(kept_L[i]);
+    }
+    stats.subsampled_out = kept_L.size() - result.points_L.size();
   }
   stats.output = result.points_L.size();
   return result;

@@ -1,6 +1,8 @@
 #include "ovpc/core/point_cloud_buffer.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <cstring>
 #include <deque>
@@ -30,9 +32,16 @@ PointCloudBuffer::Config NoFilter() {
   return c;
 }
 
-// The buffer as it was before Build() was made faster: every scan transformed into a merged cloud,
-// then VoxelFilter and Subsample as separate passes. Kept here as the reference the faster Build()
-// must match bit for bit.
+// Lexicographic order of the coordinates' bits: a canonical order for comparing sets of points.
+void SortPoints(Points* points) {
+  std::sort(points->begin(), points->end(), [](const Vec3& a, const Vec3& b) {
+    return std::memcmp(a.data(), b.data(), sizeof(Vec3)) < 0;
+  });
+}
+
+// References written for clarity, not speed: the voxel filter and subsampling as separate passes, and
+// the buffer computed from scratch at every Build() (the real one is incremental). The fast code must
+// match them bit for bit.
 namespace reference {
 
 std::uint64_t Mix(std::uint64_t x) {
@@ -141,6 +150,7 @@ class Buffer {
     const Eigen::Isometry3d T_L_O = result.T_O_L.inverse();
     const double r2 = config_.crop_radius_m * config_.crop_radius_m;
     BufferStats& stats = result.stats;
+    if (config_.voxel_size_m > 0.0) return BuildVoxels(result);
     Points merged_L;
     for (const auto& s : scans_) {
       stats.input += s.first.points_S.size() + s.second;
@@ -155,13 +165,96 @@ class Buffer {
         merged_L.push_back(p_L);
       }
     }
-    Points filtered = reference::VoxelFilter(merged_L, config_.voxel_size_m, config_.min_hits, &stats);
-    result.points_L = reference::Subsample(filtered, config_.max_points, config_.seed, &stats);
+    result.points_L = reference::Subsample(merged_L, config_.max_points, config_.seed, &stats);
     stats.output = result.points_L.size();
     return result;
   }
 
  private:
+  // The voxel filter from scratch: every buffered point into a grid fixed in O, its position in its
+  // voxel in 2^-20 of the edge, summed per voxel; each voxel with enough hits within the crop radius
+  // is its centroid; subsampling keeps the voxels with the smallest seeded hash of their index.
+  // The output as a set (sorted): the buffer's order is that of its voxel store.
+  PointCloudBuffer::LocalCloud BuildVoxels(PointCloudBuffer::LocalCloud& result) const {
+    constexpr double kSteps = 1048576.0;
+    struct Sum {
+      std::int64_t q[3] = {0, 0, 0};
+      std::uint32_t count = 0;
+    };
+    std::map<std::array<std::int64_t, 3>, Sum> voxels;
+    BufferStats& stats = result.stats;
+    const double inv = 1.0 / config_.voxel_size_m;
+    for (const auto& s : scans_) {
+      stats.input += s.first.points_S.size() + s.second;
+      stats.non_finite += s.second;
+      for (const Vec3& p_S : s.first.points_S) {
+        const Vec3 p_O = s.first.T_O_S * p_S;
+        std::array<std::int64_t, 3> key;
+        std::int64_t q[3];
+        bool in_grid = true;
+        for (int a = 0; a < 3; ++a) {
+          const double f = p_O[a] * inv + (a == 2 ? 0.5 : 0.0);  // half a voxel lower vertically
+          const double k = std::floor(f);
+          if (!(k >= -2147483648.0 && k <= 2147483647.0)) {
+            in_grid = false;
+            break;
+          }
+          key[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(k);
+          q[a] = std::min<std::int64_t>(static_cast<std::int64_t>((f - k) * kSteps), 1048575);
+        }
+        if (!in_grid) {
+          ++stats.out_of_range;
+          continue;
+        }
+        Sum& sum = voxels[key];
+        for (int a = 0; a < 3; ++a) sum.q[a] += q[a];
+        ++sum.count;
+      }
+    }
+    const Vec3 origin = result.T_O_L.translation();
+    const double r2 = config_.crop_radius_m * config_.crop_radius_m;
+    const double near2 = config_.near_range_m * config_.near_range_m;
+    const auto near_hits = static_cast<std::uint32_t>(std::max(config_.min_hits, config_.near_min_hits));
+    std::vector<std::pair<std::uint64_t, Vec3>> kept;  // rank, point
+    const std::uint64_t salt = Mix(config_.seed);
+    for (const auto& [key, sum] : voxels) {
+      if (sum.count < static_cast<std::uint32_t>(config_.min_hits)) {
+        stats.voxel_sparse += sum.count;
+        continue;
+      }
+      const double n = sum.count;
+      Vec3 c;
+      for (int a = 0; a < 3; ++a) {
+        c[a] = config_.voxel_size_m * (static_cast<double>(key[static_cast<std::size_t>(a)]) - (a == 2 ? 0.5 : 0.0) +
+                                       (static_cast<double>(sum.q[a]) + 0.5 * n) / (n * kSteps));
+      }
+      const Vec3 p_L = c - origin;
+      if (p_L.squaredNorm() > r2) {
+        stats.out_of_range += sum.count;
+        continue;
+      }
+      if (sum.count < near_hits && p_L.squaredNorm() < near2) {
+        stats.voxel_sparse += sum.count;
+        continue;
+      }
+      const std::uint64_t hash = Mix(static_cast<std::uint64_t>(key[0]) * 0x9e3779b97f4a7c15ULL ^
+                                     static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL ^
+                                     static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL);
+      kept.emplace_back(Mix(salt ^ hash), p_L);
+    }
+    stats.voxels_kept = kept.size();
+    if (kept.size() > config_.max_points) {
+      std::nth_element(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(config_.max_points), kept.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      stats.subsampled_out = kept.size() - config_.max_points;
+      kept.resize(config_.max_points);
+    }
+    for (const auto& k : kept) result.points_L.push_back(k.second);
+    SortPoints(&result.points_L);
+    stats.output = result.points_L.size();
+    return result;
+  }
+
   PointCloudBuffer::Config config_;
   std::deque<std::pair<Scan, std::size_t>> scans_;
 };
@@ -177,7 +270,10 @@ bool SameBits(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return std::memcmp(a.matrix().data(), b.matrix().data(), 16 * sizeof(double)) == 0;
 }
 
-void ExpectSameCloud(const PointCloudBuffer::LocalCloud& got, const PointCloudBuffer::LocalCloud& want, int step) {
+// `as_set`: the points in any order (the voxel filter's output order is that of its voxel store).
+void ExpectSameCloud(PointCloudBuffer::LocalCloud got, const PointCloudBuffer::LocalCloud& want, int step,
+                     bool as_set) {
+  if (as_set) SortPoints(&got.points_L);
   EXPECT_TRUE(SameBits(got.points_L, want.points_L)) << "push " << step << ": " << got.points_L.size() << " vs "
                                                       << want.points_L.size() << " points";
   EXPECT_TRUE(SameBits(got.T_O_L, want.T_O_L)) << "push " << step;
@@ -223,7 +319,7 @@ void CompareWithReference(const PointCloudBuffer::Config& config, std::uint64_t 
     if (i % 5 == 0) scan.points_S.emplace_back(0.0, -std::numeric_limits<double>::infinity(), 1.0);
     buffer.Push(scan);
     ref.Push(scan);
-    if (i % 2 == 1 || i + 1 == pushes) ExpectSameCloud(buffer.Build(), ref.Build(), i);
+    if (i % 2 == 1 || i + 1 == pushes) ExpectSameCloud(buffer.Build(), ref.Build(), i, config.voxel_size_m > 0.0);
     if (::testing::Test::HasFailure()) return;
   }
 }
@@ -251,9 +347,64 @@ TEST(PointCloudBufferTest, BuildMatchesTheReferenceWithOtherSettings) {
   config.min_hits = 1;
   config.crop_radius_m = 200.0;
   CompareWithReference(config, 4, 12);
-  config.crop_radius_m = 1e9;  // voxel indices beyond 32 bits
+  config.crop_radius_m = 1e9;
   config.min_hits = 2;
   CompareWithReference(config, 5, 12);
+}
+
+// The voxels are summed in integers, so what comes out depends on the scans in the buffer only: a
+// buffer that saw 30 scans (and let 20 go) gives the same cloud as one that saw only the last 10.
+TEST(PointCloudBufferTest, TheCloudDependsOnlyOnTheBufferedScans) {
+  PointCloudBuffer::Config config;
+  config.max_scans = 10;
+  config.max_points = 5000;
+  PointCloudBuffer long_lived(config), fresh(config);
+  const synth::Scene scene = synth::MakeOutdoorScene(3);
+  const SpinningLidarMount mount;
+  for (int i = 0; i < 30; ++i) {
+    Eigen::Isometry3d T_O_B = Pose(Vec3(0.2 * i, 0.05 * i, 0.0), 0.03 * i);
+    Scan scan = std::move(synth::SimulateScans(scene, mount, T_O_B, 0.05 * i, 1, 0.015, 77 + i).front());
+    long_lived.Push(scan);
+    if (i >= 20) fresh.Push(scan);
+  }
+  PointCloudBuffer::LocalCloud a = long_lived.Build(), b = fresh.Build();
+  EXPECT_GT(a.stats.subsampled_out, 0u);
+  SortPoints(&b.points_L);
+  ExpectSameCloud(a, b, 29, true);
+}
+
+// Flat ground at O's origin height (where the vehicle starts), hit a centimetre above and below, is
+// one layer of centroids: the grid's vertical boundaries are half a voxel off it.
+TEST(PointCloudBufferTest, GroundAtTheStartHeightIsOneLayer) {
+  PointCloudBuffer buffer;  // 0.1 m voxels
+  Points scan;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) {
+      for (const double z : {-0.01, 0.01, -0.004, 0.006}) scan.emplace_back(0.1 * i + 0.03, 0.1 * j + 0.04, z);
+    }
+  }
+  Eigen::Isometry3d T_O_S = Eigen::Isometry3d::Identity();
+  T_O_S.translation() = Vec3(0.0, 0.0, 1.88);
+  for (Vec3& p : scan) p.z() -= 1.88;  // in S
+  buffer.Push({scan, T_O_S, 0.0});
+  const auto cloud = buffer.Build();
+  ASSERT_EQ(cloud.points_L.size(), 400u);
+  for (const Vec3& p : cloud.points_L) EXPECT_NEAR(p.z(), 0.0005 - 1.88, 1e-6);
+}
+
+// A point beyond the grid's voxel indices (2^31 voxels from O's origin) is dropped and counted as out
+// of range, never converted out of range or merged with others.
+TEST(PointCloudBufferTest, PointsBeyondTheGridAreCountedOutOfRange) {
+  PointCloudBuffer::Config config;
+  config.crop_radius_m = 1e30;
+  PointCloudBuffer buffer(config);
+  Points scan = {Vec3(1.01, 0.01, 0.01), Vec3(1.02, 0.02, 0.02), Vec3(3e8, 0.0, 0.0), Vec3(3e8, 0.0, 0.0),
+                 Vec3(0.0, -1e300, 0.0), Vec3(0.0, -1e300, 0.0)};
+  buffer.Push({scan, Eigen::Isometry3d::Identity(), 0.0});
+  const auto cloud = buffer.Build();
+  EXPECT_EQ(cloud.stats.out_of_range, 4u);
+  ASSERT_EQ(cloud.points_L.size(), 1u);
+  EXPECT_NEAR(cloud.points_L[0].x(), 1.015, 1e-6);
 }
 
 TEST(PointCloudBufferTest, VoxelsNearTheSensorNeedNearMinHits) {
@@ -381,7 +532,7 @@ TEST(PointCloudBufferTest, SingleHitOutliersAreDroppedByTheVoxelFilter) {
   const auto cloud = buffer.Build();
   EXPECT_EQ(cloud.points_L.size(), 10u);
   EXPECT_EQ(cloud.stats.voxel_sparse, 2u);
-  for (const Vec3& p : cloud.points_L) EXPECT_NEAR(p.x(), 2.03, 1e-12);  // voxel centroids
+  for (const Vec3& p : cloud.points_L) EXPECT_NEAR(p.x(), 2.03, 1e-6);  // voxel centroids (to 2^-20 of a voxel)
 }
 
 TEST(PointCloudBufferTest, CropNonFiniteAndSubsampleAreCounted) {

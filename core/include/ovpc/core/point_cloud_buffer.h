@@ -1,11 +1,13 @@
 // The point cloud buffer: the first stage of the OVPC pipeline (paper, "Point cloud buffer").
-// Aligns the last N scans by local odometry, crops, voxel-filters (>= 2 hits per voxel) and
+// Aligns the last N scans by local odometry, voxel-filters (>= 2 hits per voxel), crops and
 // subsamples them into one cloud centred on the current sensor position.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <memory>
+#include <vector>
 
 #include "ovpc/core/types.h"
 
@@ -41,6 +43,13 @@ Points VoxelFilter(const Points& points, double voxel_size_m, int min_hits, Buff
 Points Subsample(const Points& points, std::size_t max_points, std::uint64_t seed,
                  BufferStats* stats = nullptr);
 
+/// The voxel filter is incremental and anchored in the odometry frame O: each scan's points go into
+/// the voxels of a grid fixed in O when the scan is pushed, and come out of them when the scan leaves
+/// the buffer, so Build() reads the voxels instead of re-voxelising every buffered scan (and a ground
+/// point does not change voxels as the vehicle moves). A point's position inside its voxel is kept
+/// in 2^-20 of the voxel edge and summed in integers: the centroids depend only on the scans in the
+/// buffer, never on the order they came and went in. The grid is shifted down by half a voxel, so the
+/// ground at O's origin (where the vehicle started) lies mid-voxel, not on a boundary.
 class PointCloudBuffer {
  public:
   struct Config {
@@ -55,7 +64,7 @@ class PointCloudBuffer {
     double near_range_m = 0.0;
     int near_min_hits = 2;
     std::size_t max_points = 14000;  ///< subsampling target (paper: 6,000-14,000 result points)
-    std::uint64_t seed = 1;       ///< seed of the subsampling hash
+    std::uint64_t seed = 1;       ///< seed of the subsampling hash (of the voxel's index in O)
 
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
@@ -74,25 +83,48 @@ class PointCloudBuffer {
   /// @throws std::invalid_argument if the config is invalid.
   explicit PointCloudBuffer(const Config& config);
 
-  /// Adds a scan, dropping the oldest beyond `max_scans`. Non-finite points are dropped (and
-  /// counted in the next Build()).
+  /// Adds a scan (its points into the voxels), dropping the oldest beyond `max_scans`. Non-finite
+  /// points are dropped (and counted in the next Build()).
   /// @throws std::invalid_argument if the pose is not finite.
   void Push(Scan scan);
 
-  /// Merges the buffered scans. Returns an empty cloud when no scan was pushed.
+  /// The buffered scans as one cloud in frame L: the centroid of every voxel with enough hits
+  /// (min_hits; near_min_hits within near_range_m of the newest sensor position) within
+  /// crop_radius_m of that position, subsampled to max_points by a seeded hash of the voxel's index
+  /// (the same voxel is kept or dropped from one Build to the next). With the voxel filter off
+  /// (voxel_size_m <= 0): every point within the crop radius, subsampled by a hash of its position in
+  /// the merged cloud. Returns an empty cloud when no scan was pushed.
   LocalCloud Build() const;
 
   std::size_t num_scans() const { return scans_.size(); }
-  void Clear() { scans_.clear(); }
+  void Clear();
   const Config& config() const { return config_; }
 
+  ~PointCloudBuffer();
+  PointCloudBuffer(PointCloudBuffer&&) noexcept;
+  PointCloudBuffer& operator=(PointCloudBuffer&&) noexcept;
+  PointCloudBuffer(const PointCloudBuffer&) = delete;
+  PointCloudBuffer& operator=(const PointCloudBuffer&) = delete;
+
  private:
+  class Grid;
+  /// Where one point of a buffered scan went: its voxel and its position in the voxel.
+  struct Entry {
+    std::uint32_t voxel;
+    std::uint32_t q[3];
+  };
   struct Stored {
-    Scan scan;
+    Eigen::Isometry3d T_O_S = Eigen::Isometry3d::Identity();
+    double time_s = 0.0;
+    std::size_t input = 0;        ///< points given, finite or not
     std::size_t non_finite = 0;
+    std::size_t out_of_grid = 0;  ///< beyond any voxel index of the grid (2^31 voxels from O's origin)
+    std::vector<Entry> entries;   ///< voxel filter on
+    Points points_S;              ///< voxel filter off
   };
   Config config_;
   std::deque<Stored> scans_;
+  std::unique_ptr<Grid> grid_;
 };
 
 }  // namespace ovpc
