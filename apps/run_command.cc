@@ -25,7 +25,7 @@ Runner RegisterRun(CLI::App& app) {
     bool print_config = false;
     bool frames = false;
     bool quiet = false;
-    int threads = 1;
+    int threads = 2;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "Run one scenario in closed loop (headless) and score it");
@@ -48,8 +48,8 @@ Runner RegisterRun(CLI::App& app) {
   cmd->add_flag("--frames", o->frames, "Render chase-camera PNG frames (EGL, CPU; slow)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
   cmd->add_option("--threads", o->threads,
-                  "Threads for the run: 2 maps and plans beside the simulation when navigator.latency_s > 0 (the "
-                  "trajectory is the same with 1 or 2)")
+                  "Threads for the run: with 2 the robot maps and plans beside the simulation for "
+                  "navigator.latency_s (0.1 s by default); the trajectory is the same with 1 or 2")
       ->check(CLI::Range(1, 2))
       ->capture_default_str();
   return [o]() {

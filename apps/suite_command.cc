@@ -17,6 +17,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -46,7 +47,7 @@ struct Options {
   std::vector<std::string> skip_labels;
   std::string preset;
   std::string map;  // --map: every run's backend ("" = each scenario's configuration)
-  int threads = 1;  // --threads: each run's (ovpc run --threads)
+  int threads = 0;  // --threads: each run's (ovpc run --threads); 0: 2 unless --jobs fill the cores
   std::string out = "out/suite";
   std::size_t samples = 6;
   std::uint64_t family_seed = 1;
@@ -281,6 +282,13 @@ void Finish(Job& job, int status, const std::vector<FamilyInput>& families) {
   if (job.draw) JudgeDraw(job, families);
 }
 
+// Each run's threads: as asked, or 2 while the runs at a time leave a core for each second thread.
+int RunThreads(const Options& o) {
+  if (o.threads > 0) return o.threads;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  return 2 * static_cast<unsigned>(o.jobs) <= cores ? 2 : 1;
+}
+
 void Start(Job& job, const Options& o, const std::string& self) {
   // A fresh folder: a result left by an earlier suite is never taken for this run's.
   std::error_code ec;
@@ -299,10 +307,8 @@ void Start(Job& job, const Options& o, const std::string& self) {
     args.push_back("--map");
     args.push_back(o.map);
   }
-  if (o.threads != 1) {
-    args.push_back("--threads");
-    args.push_back(std::to_string(o.threads));
-  }
+  args.push_back("--threads");
+  args.push_back(std::to_string(RunThreads(o)));
   job.pid = Spawn(args, (fs::path(job.out_dir) / "run.log").string());
 }
 
@@ -381,9 +387,9 @@ Runner RegisterSuite(CLI::App& app) {
                   "The map backend of every run: ovpc, octomap or elevation (default: each run's configuration; "
                   "--sweep navigator.map=ovpc,octomap,elevation compares them)");
   cmd->add_option("--threads", o->threads,
-                  "Threads of each run (ovpc run --threads); keep 1 when --jobs fill the cores")
-      ->check(CLI::Range(1, 2))
-      ->capture_default_str();
+                  "Threads of each run (ovpc run --threads; default: 2 when twice --jobs fits in the cores, "
+                  "else 1)")
+      ->check(CLI::Range(1, 2));
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
   cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")

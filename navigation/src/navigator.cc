@@ -129,8 +129,8 @@ void Navigator::Config::Validate() const {
       !std::isfinite(progress_ahead_m)) {
     fail("navigator.progress_back_m must be >= 0 and progress_ahead_m > 0");
   }
-  if (!(latency_s >= 0.0) || !(latency_s <= 0.5 / map_rate_hz)) {
-    fail("navigator.latency_s must be in [0, half the map period]");
+  if (!(latency_s >= 0.0) || !(latency_s <= 1.0 / map_rate_hz)) {
+    fail("navigator.latency_s must be in [0, the map period]");
   }
   vehicle.Validate();
   buffer.Validate();

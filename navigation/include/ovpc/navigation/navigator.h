@@ -146,7 +146,7 @@ class Navigator {
     /// at t + latency_s, as on a robot that maps and plans while it drives; in between, the vehicle
     /// follows the previous path. The trajectory depends on this value, never on whether the cycle
     /// ran on another thread (RunCyclesOnAWorkerThread). 0: at once (the cycle costs no time). At
-    /// most half the map period.
+    /// most the map period.
     double latency_s = 0.0;
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
