@@ -57,6 +57,10 @@ class Navigator::Worker {
     }
     wake_.notify_all();
   }
+  bool Busy() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return busy_;
+  }
   // Waits for the task; rethrows what it threw.
   void Wait() {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -249,6 +253,8 @@ Navigator::~Navigator() {
     }
   }
 }
+
+bool Navigator::CycleRunning() const { return job_ && job_->on_worker && worker_->Busy(); }
 
 bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   const Eigen::Vector2d here = T_O_B.translation().head<2>();

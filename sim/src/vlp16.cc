@@ -69,7 +69,7 @@ void Vlp16Sim::Config::Validate() const {
 }
 
 Vlp16Sim::Vlp16Sim(const Config& config, const RayCaster* caster, double t0_s)
-    : config_(config), caster_(caster), t0_s_(t0_s), rng_(std::make_unique<Rng>()) {
+    : config_(config), caster_(caster), t0_s_(t0_s) {
   config_.Validate();
   if (caster_ == nullptr) throw std::invalid_argument("Vlp16Sim: caster is null");
   if (!std::isfinite(t0_s)) throw std::invalid_argument("Vlp16Sim: t0_s must be finite");
@@ -95,11 +95,11 @@ Vec3 Vlp16Sim::BeamDirection(int laser, double azimuth_rad) {
 }
 
 void Vlp16Sim::StartScan() {
-  const std::int64_t scan_index = next_firing_ / firings_per_scan_;
   current_ = TrueScan{};
   current_points_W_.clear();
   current_points_W_.reserve(rays_per_scan());
-  rng_->Seed(HashCombine(config_.seed, static_cast<std::uint64_t>(scan_index)));
+  pending_.clear();
+  pending_.reserve(static_cast<std::size_t>(firings_per_scan_));
 }
 
 std::vector<double> Vlp16Sim::CastFiring(const Eigen::Isometry3d& T_W_S, double azimuth_rad) const {
@@ -119,15 +119,80 @@ std::vector<double> Vlp16Sim::CastFiring(const Eigen::Isometry3d& T_W_S, double 
   return ranges;
 }
 
-void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
-                       std::vector<TrueScan>* completed) {
+// What one firing gave: its returns in the world frame, in laser order, and its fault counts.
+struct Vlp16Sim::FiringReturns {
+  Vec3 points_W[kLasers];
+  int count = 0;
+  int dropouts = 0;
+  int outliers = 0;
+};
+
+void Vlp16Sim::CastOne(const Firing& firing, FiringReturns* out) const {
   const SpinningLidarMount& mount = config_.mount;
   const ElevationTable& e = Elevations();
+  // The firing's own stream: the same draws whichever thread casts it, and in whatever order.
+  Rng rng(HashCombine(config_.seed, static_cast<std::uint64_t>(firing.index)));
+  const double ca = cos_azimuth_[static_cast<std::size_t>(firing.azimuth)];
+  const double sa = sin_azimuth_[static_cast<std::size_t>(firing.azimuth)];
+  // The 16 lasers of a firing leave together: one Embree packet.
+  Vec3 dirs_W[kLasers];
+  RayCaster::Hit hits[kLasers];
+  for (int laser = 0; laser < kLasers; ++laser) {
+    dirs_W[laser] = firing.R_W_S * Vec3(e.cos_e[laser] * ca, e.cos_e[laser] * sa, e.sin_e[laser]);
+  }
+  caster_->CastFan(firing.origin_W, dirs_W, kLasers, mount.max_range_m, hits);
   const bool dropouts = config_.dropout_fraction > 0.0;
   const bool outliers = config_.outlier_fraction > 0.0;
   const double sigma = config_.range_sigma_m;
   const double extra_sigma = config_.extra_noise_sigma_m;
-  Rng& rng = *rng_;
+  *out = FiringReturns{};
+  for (int laser = 0; laser < kLasers; ++laser) {
+    const RayCaster::Hit& hit = hits[laser];
+    double range_m = hit.range_m;
+    bool has_return = hit.hit();
+    if (outliers && rng.Uniform() < config_.outlier_fraction) {
+      // Dust, rain, multipath: a return anywhere in front of what the beam would have hit.
+      range_m = rng.Uniform(mount.min_range_m, has_return ? range_m : mount.max_range_m);
+      has_return = true;
+      ++out->outliers;
+    } else if (has_return) {
+      if (sigma > 0.0) range_m += sigma * rng.Gaussian();
+      if (extra_sigma > 0.0) range_m += extra_sigma * rng.Gaussian();
+    }
+    if (!has_return) continue;
+    if (dropouts && rng.Uniform() < config_.dropout_fraction) {
+      ++out->dropouts;
+      continue;
+    }
+    if (range_m < mount.min_range_m || range_m > mount.max_range_m) continue;
+    out->points_W[out->count++] = firing.origin_W + range_m * dirs_W[laser];
+  }
+}
+
+void Vlp16Sim::CastPending() {
+  if (pending_.empty()) return;
+  thread_local std::vector<FiringReturns> returns;
+  returns.resize(pending_.size());
+  FiringReturns* out = returns.data();  // this thread's; other threads write through the pointer
+  const std::function<void(std::size_t)> fn = [this, out](std::size_t i) { CastOne(pending_[i], &out[i]); };
+  if (parallel_for_) {
+    parallel_for_(pending_.size(), fn);
+  } else {
+    for (std::size_t i = 0; i < pending_.size(); ++i) fn(i);
+  }
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    const FiringReturns& r = returns[i];
+    current_.rays += kLasers;
+    current_.dropouts += static_cast<std::size_t>(r.dropouts);
+    current_.outliers += static_cast<std::size_t>(r.outliers);
+    current_points_W_.insert(current_points_W_.end(), r.points_W, r.points_W + r.count);
+  }
+  pending_.clear();
+}
+
+void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
+                       std::vector<TrueScan>* completed) {
+  const SpinningLidarMount& mount = config_.mount;
   // Per-call parts of the per-firing pose (the same as InterpolatePose * mount.T_B_S, cheaper).
   const Eigen::Quaterniond q_from(from.T_W_B.linear());
   const Eigen::Quaterniond q_to(to.T_W_B.linear());
@@ -140,8 +205,9 @@ void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
     const double t_s = t0_s_ + static_cast<double>(next_firing_) * firing_period_s_;
     const int j = static_cast<int>(next_firing_ % firings_per_scan_);
     // A scan ends where the next one's first firing would be.
-    if (j == 0 && next_firing_ > 0 && current_.rays > 0) {
+    if (j == 0 && next_firing_ > 0 && (current_.rays > 0 || !pending_.empty())) {
       if (t_s > to.time_s + kTimeEpsilon_s) break;  // the end pose is not known yet
+      CastPending();
       current_.time_s = t_s;
       current_.T_W_S = InterpolatePose(from, to, t_s) * mount.T_B_S(t_s);
       const Eigen::Isometry3d T_S_W = current_.T_W_S.inverse();
@@ -160,40 +226,7 @@ void Vlp16Sim::Advance(const TimedPose& from, const TimedPose& to,
     R_spin(0, 0) = R_spin(1, 1) = std::cos(yaw);
     R_spin(1, 0) = std::sin(yaw);
     R_spin(0, 1) = -R_spin(1, 0);
-    const Eigen::Matrix3d R_W_S = R_W_B * (R_spin * R_tilt);
-    const Vec3 origin_W = p_W_B + R_W_B * mast_B;
-    const double ca = cos_azimuth_[static_cast<std::size_t>(j)];
-    const double sa = sin_azimuth_[static_cast<std::size_t>(j)];
-    // The 16 lasers of a firing leave together: one Embree packet.
-    Vec3 dirs_W[kLasers];
-    RayCaster::Hit hits[kLasers];
-    for (int laser = 0; laser < kLasers; ++laser) {
-      dirs_W[laser] = R_W_S * Vec3(e.cos_e[laser] * ca, e.cos_e[laser] * sa, e.sin_e[laser]);
-    }
-    caster_->CastFan(origin_W, dirs_W, kLasers, mount.max_range_m, hits);
-    for (int laser = 0; laser < kLasers; ++laser) {
-      const Vec3& dir_W = dirs_W[laser];
-      const RayCaster::Hit& hit = hits[laser];
-      ++current_.rays;
-      double range_m = hit.range_m;
-      bool has_return = hit.hit();
-      if (outliers && rng.Uniform() < config_.outlier_fraction) {
-        // Dust, rain, multipath: a return anywhere in front of what the beam would have hit.
-        range_m = rng.Uniform(mount.min_range_m, has_return ? range_m : mount.max_range_m);
-        has_return = true;
-        ++current_.outliers;
-      } else if (has_return) {
-        if (sigma > 0.0) range_m += sigma * rng.Gaussian();
-        if (extra_sigma > 0.0) range_m += extra_sigma * rng.Gaussian();
-      }
-      if (!has_return) continue;
-      if (dropouts && rng.Uniform() < config_.dropout_fraction) {
-        ++current_.dropouts;
-        continue;
-      }
-      if (range_m < mount.min_range_m || range_m > mount.max_range_m) continue;
-      current_points_W_.push_back(origin_W + range_m * dir_W);
-    }
+    pending_.push_back({next_firing_, j, R_W_B * (R_spin * R_tilt), p_W_B + R_W_B * mast_B});
     ++next_firing_;
   }
 }

@@ -47,7 +47,8 @@ TEST(ClosedLoopTest, ALatencyGivesTheSameTrajectoryWithOneThreadOrTwo) {
   EXPECT_EQ(a.plan_log.size(), b.plan_log.size());
   EXPECT_GT(a.distance_m, 0.5) << "the vehicle should have set off";
   // The latency is a fact of the run: without it the vehicle sets off 0.1 s earlier.
-  const RunResult none = RunClosedLoop(ParseScenario(kShort, "short.yaml", {"time_limit_s=6"}), 3, one);
+  const RunResult none =
+      RunClosedLoop(ParseScenario(kShort, "short.yaml", {"time_limit_s=6", "navigator.latency_s=0"}), 3, one);
   ASSERT_FALSE(none.plan_log.empty());
   const auto first_moving = [](const RunResult& r) {
     for (const auto& row : r.trajectory) {

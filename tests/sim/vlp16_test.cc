@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <functional>
 #include <set>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -325,6 +327,42 @@ TEST(Vlp16Test, DeterministicFromTheSeedWhateverTheStepSize) {
   config.seed = 12;
   Vlp16Sim c(config, &scene.caster);
   EXPECT_NE(RunParked(&c, 0.05, 0.005).at(0).points_S, fine[0].points_S);
+}
+
+// The firings of a scan may be cast in any order and on any threads (issue 19's spread ray cast):
+// each draws its noise and faults from its own stream, so the scans are bit for bit the same.
+TEST(Vlp16Test, TheSameScansWhateverThreadsCastTheFirings) {
+  World world = FlatWorld(40.0, 0.5);
+  world.terrain.kind = TerrainConfig::Kind::kRough;
+  world.terrain.rough.amplitude_m = 0.3;
+  const Scene scene(world);
+  Vlp16Sim::Config config;
+  config.dropout_fraction = 0.1;
+  config.outlier_fraction = 0.05;
+  config.seed = 5;
+  Vlp16Sim in_order(config, &scene.caster);
+  Vlp16Sim spread(config, &scene.caster);
+  std::size_t calls = 0;
+  // Backwards, the upper half on another thread.
+  spread.SetParallelFor([&calls](std::size_t n, const std::function<void(std::size_t)>& fn) {
+    ++calls;
+    std::thread other([&] {
+      for (std::size_t i = n; i-- > n / 2;) fn(i);
+    });
+    for (std::size_t i = n / 2; i-- > 0;) fn(i);
+    other.join();
+  });
+  const std::vector<TrueScan> a = RunParked(&in_order, 0.2, 0.005);
+  const std::vector<TrueScan> b = RunParked(&spread, 0.2, 0.005);
+  ASSERT_EQ(a.size(), 4u);
+  ASSERT_EQ(b.size(), 4u);
+  EXPECT_EQ(calls, 4u) << "one call per scan";
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].points_S, b[k].points_S) << k;
+    EXPECT_EQ(a[k].outliers, b[k].outliers);
+    EXPECT_EQ(a[k].dropouts, b[k].dropouts);
+    EXPECT_GT(a[k].outliers, 0u);
+  }
 }
 
 TEST(Vlp16Test, InvalidConfigsNameTheField) {

@@ -181,6 +181,10 @@ class Navigator {
   /// With `on` and a latency, each map-and-plan cycle runs on a thread of its own while the caller
   /// goes on (Control, AddScan, Update); the result is the same as without. Off by default.
   void RunCyclesOnAWorkerThread(bool on) { worker_thread_ = on; }
+  /// A map-and-plan cycle is running on the worker thread right now (it has not finished its
+  /// work; whether it has taken effect is another matter). A hint for sharing the cores: the answer
+  /// depends on thread timing, so nothing that shapes the trajectory may depend on it.
+  bool CycleRunning() const;
 
   // What a user looks at.
   const controller::Command& command() const { return command_; }

@@ -108,6 +108,10 @@ class Simulator {
   const Heightfield& terrain() const { return terrain_; }
   const std::vector<Solid>& solids() const { return solids_; }
   const RayCaster& ray_caster() const { return *ray_caster_; }
+  /// How the LiDAR's scans are cast (Vlp16Sim::SetParallelFor); the scans are the same either way.
+  void SetRayCastParallelFor(Vlp16Sim::ParallelFor parallel_for) {
+    if (lidar_ != nullptr) lidar_->SetParallelFor(std::move(parallel_for));
+  }
   const OdometrySim& odometry() const { return odometry_; }
   const mjModel_* model() const;
   const mjData_* data() const;

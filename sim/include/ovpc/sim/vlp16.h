@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -74,8 +75,16 @@ class Vlp16Sim {
 
   /// Fires every laser whose time lies in [from.time_s, to.time_s) and appends the scans that end
   /// at or before to.time_s to `completed`. Calls must be contiguous (each `from` the previous
-  /// `to`) and start at or before the next firing.
+  /// `to`) and start at or before the next firing. A firing's pose is taken when Advance reaches
+  /// it; its rays are cast when its scan ends (all of a scan's firings at once, see SetParallelFor).
   void Advance(const TimedPose& from, const TimedPose& to, std::vector<TrueScan>* completed);
+
+  /// Runs fn(i) for every i in [0, n), in any order and on any threads, and returns when all have.
+  using ParallelFor = std::function<void(std::size_t n, const std::function<void(std::size_t)>& fn)>;
+  /// How a scan's firings are cast: spread by `parallel_for` (empty: in order, on the caller's
+  /// thread). Each firing draws its noise and faults from a stream of its own, seeded by the
+  /// sensor's seed and the firing's index, so a scan is the same however its firings are spread.
+  void SetParallelFor(ParallelFor parallel_for) { parallel_for_ = std::move(parallel_for); }
 
   /// Casts one firing: the 16 lasers from sensor pose `T_W_S` at azimuth `azimuth_rad`, noise
   /// and faults off. Ranges are +inf for misses and out-of-range hits. For tests and tools.
@@ -90,7 +99,17 @@ class Vlp16Sim {
   const Config& config() const { return config_; }
 
  private:
+  /// A firing whose pose is known and whose rays are not cast yet.
+  struct Firing {
+    std::int64_t index;
+    int azimuth;  ///< j: the firing within its scan
+    Eigen::Matrix3d R_W_S;
+    Vec3 origin_W;
+  };
+  struct FiringReturns;
   void StartScan();
+  void CastPending();
+  void CastOne(const Firing& firing, FiringReturns* out) const;
 
   Config config_;
   const RayCaster* caster_;
@@ -102,7 +121,8 @@ class Vlp16Sim {
   Points current_points_W_;
   std::vector<double> cos_azimuth_;
   std::vector<double> sin_azimuth_;
-  std::unique_ptr<Rng> rng_;
+  std::vector<Firing> pending_;  ///< the current scan's firings, not cast yet
+  ParallelFor parallel_for_;
 };
 
 }  // namespace ovpc::sim
