@@ -207,6 +207,7 @@ controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T
     next_control_s_ = NextTick(time_s, next_control_s_, 1.0 / config_.control_rate_hz);
     const auto t = Clock::now();
     command_ = follower_->has_path() ? follower_->Update(ToPose2(T_O_B), speed_mps) : controller::Command{0.0, 0.0, true};
+    speed_mps_ = speed_mps;
     t_controller_.Add(MsSince(t));
   }
   return command_;
@@ -286,12 +287,34 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   return took_effect;
 }
 
+namespace {
+
+// Where the vehicle will be `dt_s` from now if it keeps driving at `speed_mps` with steering
+// `steering_rad`: the bicycle model about the rear axle (B's origin), in B's plane.
+Eigen::Isometry3d PredictPose(const Eigen::Isometry3d& T_O_B, double speed_mps, double steering_rad,
+                              double wheelbase_m, double dt_s) {
+  if (!(dt_s > 0.0) || speed_mps == 0.0) return T_O_B;
+  const double s = speed_mps * dt_s;                     // arc length, signed
+  const double yaw = s * std::tan(steering_rad) / wheelbase_m;
+  // Chord of the arc: exact for a constant curvature (its limit for a straight line).
+  const double f = std::abs(yaw) > 1e-9 ? std::sin(yaw) / yaw : 1.0;
+  const double g = std::abs(yaw) > 1e-9 ? (1.0 - std::cos(yaw)) / yaw : 0.0;
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  motion.translation() = Vec3(s * f, s * g, 0.0);
+  motion.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
+  return T_O_B * motion;
+}
+
+}  // namespace
+
 void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
   job_ = std::make_unique<Job>();
   Job& job = *job_;
   job.time_s = time_s;
   job.effect_s = time_s + config_.latency_s;
-  job.T_O_B = T_O_B;
+  // The cycle's results are driven from time_s + latency_s: it plans from where the vehicle will be
+  // then, predicted from the pose now, the measured speed and the steering it is driving with.
+  job.T_O_B = PredictPose(T_O_B, speed_mps_, command_.steering_rad, config_.vehicle.wheelbase_m, config_.latency_s);
   job.following = follower_->has_path() && !follower_->done();
   job.progress_m = progress_m_;
   job.state.path_O = path_O_;

@@ -229,6 +229,25 @@ TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// With a latency the cycle's path is driven from time_s + latency_s: it starts where the vehicle
+// will be then (here 1 m/s straight ahead for 0.1 s), not where it was when the cycle started.
+TEST(NavigatorTest, WithALatencyThePathStartsWhereTheVehicleWillBe) {
+  for (const double latency : {0.0, 0.1}) {
+    Navigator::Config config = FlatConfig();
+    config.latency_s = latency;
+    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}});
+    const Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
+    nav.Control(0.0, T_O_B, 1.0);  // measured speed 1 m/s, no path yet: steering 0
+    for (Scan& s : FlatGroundScans(1)) nav.AddScan(std::move(s));
+    nav.Update(0.2, T_O_B);
+    nav.Update(0.2 + latency, T_O_B);  // the cycle takes effect
+    ASSERT_TRUE(nav.has_path()) << latency;
+    const planner::PathPose start = nav.path_O().Poses().front();
+    EXPECT_NEAR(start.pose.x_m, 1.0 * latency, 1e-6) << latency;
+    EXPECT_NEAR(start.pose.y_m, 0.0, 1e-6) << latency;
+  }
+}
+
 // A route that turns back sharply (the corners family): a vehicle driving across the corner towards
 // a goal on the next leg is far from the route, and the nearest route point inside the tracking
 // window stays on the first leg. Its progress is that of its goal less the distance to it.

@@ -254,6 +254,7 @@ class Navigator {
   // Timing of the cycles (simulated or robot time).
   double next_map_s_ = 0.0, next_control_s_ = 0.0;
   controller::Command command_;
+  double speed_mps_ = 0.0;  // measured, at the last control tick
   // Re-planning state (in effect).
   planner::Path path_O_;
   std::optional<Eigen::Vector2d> goal_O_;
