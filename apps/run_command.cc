@@ -49,7 +49,7 @@ Runner RegisterRun(CLI::App& app) {
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
   cmd->add_option("--threads", o->threads,
                   "Threads for the run: with 2 the robot maps and plans beside the simulation for "
-                  "navigator.latency_s (0 by default) and the ray cast is shared; the trajectory is the same "
+                  "navigator.latency_s (0.1 s in the preset) and the ray cast is shared; the trajectory is the same "
                   "with 1 or 2")
       ->check(CLI::Range(1, 2))
       ->capture_default_str();

@@ -308,14 +308,15 @@ TEST_F(CliTest, AFullDiskLosesADiagnosticFileWithAWarningAndTheResultWithAnError
   // The plan log and the first mesh snapshot cannot be written: warnings; the result is whole.
   fs::create_directories(Path("diag"));
   fs::create_symlink("/dev/full", Path("diag/plans.csv"));
-  fs::create_symlink("/dev/full", Path("diag/mesh_000_t1.0.ply"));
+  // Maps take effect 0.1 s after they are started (navigator.latency_s): at 1.1 s, then 2.1 s.
+  fs::create_symlink("/dev/full", Path("diag/mesh_000_t1.1.ply"));
   const RunResult diag = Run("run " + Path("short.yaml") + " -q --set record.mesh_snapshot_period_s=1 --out " + Path("diag"));
   EXPECT_EQ(diag.exit_code, 0) << diag.err;
   EXPECT_NE(diag.err.find("warning: " + Path("diag/plans.csv")), std::string::npos) << diag.err;
-  EXPECT_NE(diag.err.find("mesh_000_t1.0.ply"), std::string::npos) << diag.err;
+  EXPECT_NE(diag.err.find("mesh_000_t1.1.ply"), std::string::npos) << diag.err;
   ASSERT_TRUE(fs::exists(Path("diag/result.json")));
   EXPECT_TRUE(nlohmann::json::parse(ReadAll(Path("diag/result.json")))["passed"].get<bool>());
-  EXPECT_TRUE(fs::exists(Path("diag/mesh_001_t2.0.ply"))) << "the next snapshot is written";
+  EXPECT_TRUE(fs::exists(Path("diag/mesh_001_t2.1.ply"))) << "the next snapshot is written";
   // The trajectory cannot be written: the run fails and leaves no result.json claiming anything.
   fs::create_directories(Path("traj"));
   fs::create_symlink("/dev/full", Path("traj/trajectory.csv"));
