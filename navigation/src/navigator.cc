@@ -36,66 +36,6 @@ planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
 
 }  // namespace
 
-// One thread that runs the map-and-plan cycles one at a time. Kept for the navigator's life, so
-// that the thread-local scratch memory of the buffer and the map stays allocated.
-class Navigator::Worker {
- public:
-  Worker() : thread_([this] { Loop(); }) {}
-  ~Worker() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_all();
-    thread_.join();
-  }
-  void Start(std::function<void()> task) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      task_ = std::move(task);
-      busy_ = true;
-    }
-    wake_.notify_all();
-  }
-  bool Busy() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return busy_;
-  }
-  // Waits for the task; rethrows what it threw.
-  void Wait() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return !busy_; });
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-  }
-
- private:
-  void Loop() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (true) {
-      wake_.wait(lock, [this] { return stop_ || task_; });
-      if (stop_) return;
-      std::function<void()> task = std::move(task_);
-      task_ = nullptr;
-      lock.unlock();
-      std::exception_ptr error;
-      try {
-        task();
-      } catch (...) {
-        error = std::current_exception();
-      }
-      lock.lock();
-      error_ = error;
-      busy_ = false;
-      done_.notify_all();
-    }
-  }
-  std::mutex mutex_;
-  std::condition_variable wake_, done_;
-  std::function<void()> task_;
-  bool busy_ = false, stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;  // last: started after the rest is initialised
-};
 
 StageStats StageTimer::Stats() const {
   StageStats s;
@@ -324,7 +264,8 @@ void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
   job.state.last_plan_s = last_plan_s_;
   job.state.blocked_updates = blocked_updates_;
   if (worker_thread_ && config_.latency_s > 0.0) {
-    if (!worker_) worker_ = std::make_unique<Worker>();
+    if (!worker_) worker_ = std::make_unique<TaskThread>();  // kept for the navigator's life: its
+    // thread-local scratch memory of the buffer and the map stays allocated
     job.on_worker = true;
     worker_->Start([this, &job] { MapCycle(&job); });
   } else {

@@ -1,16 +1,14 @@
 #include "ovpc/scenarios/closed_loop.h"
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <exception>
 #include <functional>
 #include <memory>
-#include <mutex>
-#include <thread>
 #include <utility>
 
 #include "ovpc/navigation/navigator.h"
+#include "ovpc/navigation/task_thread.h"
 #include "ovpc/scenarios/recorder.h"
 #include "ovpc/scenarios/referee.h"
 
@@ -26,72 +24,19 @@ double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::
 // two cores are then free); while the cycle runs, the simulation thread casts them alone, so that
 // the cycle, which the simulation will wait for, keeps its core. Which thread casts a firing never
 // changes the scan (Vlp16Sim::SetParallelFor).
-class RayCastHelper {
- public:
-  RayCastHelper() : thread_([this] { Loop(); }) {}
-  ~RayCastHelper() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_all();
-    thread_.join();
+void CastOnTwoThreads(navigation::TaskThread* helper, std::size_t n, const std::function<void(std::size_t)>& fn) {
+  helper->Start([&fn, n] {
+    for (std::size_t i = n / 2; i < n; ++i) fn(i);
+  });
+  std::exception_ptr mine;
+  try {
+    for (std::size_t i = 0; i < n / 2; ++i) fn(i);
+  } catch (...) {
+    mine = std::current_exception();
   }
-  RayCastHelper(const RayCastHelper&) = delete;
-  RayCastHelper& operator=(const RayCastHelper&) = delete;
-
-  // fn(i) for i in [0, n): the upper half here, the lower half on the caller's thread.
-  void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      fn_ = &fn;
-      begin_ = n / 2;
-      end_ = n;
-      busy_ = true;
-    }
-    wake_.notify_all();
-    std::exception_ptr mine;
-    try {
-      for (std::size_t i = 0; i < n / 2; ++i) fn(i);
-    } catch (...) {
-      mine = std::current_exception();
-    }
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return !busy_; });
-    if (mine) std::rethrow_exception(mine);
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-  }
-
- private:
-  void Loop() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    while (true) {
-      wake_.wait(lock, [this] { return stop_ || busy_; });
-      if (stop_) return;
-      const std::function<void(std::size_t)>& fn = *fn_;
-      const std::size_t begin = begin_, end = end_;
-      lock.unlock();
-      std::exception_ptr error;
-      try {
-        for (std::size_t i = begin; i < end; ++i) fn(i);
-      } catch (...) {
-        error = std::current_exception();
-      }
-      lock.lock();
-      error_ = error;
-      busy_ = false;
-      done_.notify_all();
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable wake_, done_;
-  const std::function<void(std::size_t)>* fn_ = nullptr;
-  std::size_t begin_ = 0, end_ = 0;
-  bool busy_ = false, stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;  // last: started when the rest is ready
-};
+  helper->Wait();  // rethrows what the helper's half threw
+  if (mine) std::rethrow_exception(mine);
+}
 
 double RouteLength(const std::vector<Eigen::Vector2d>& route) {
   double s = 0.0;
@@ -141,14 +86,14 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   navigation::Navigator nav(nav_config, scenario.route_m,
                             options.make_plugins ? options.make_plugins(nav_config) : navigation::Navigator::Plugins{});
   nav.RunCyclesOnAWorkerThread(options.threads >= 2);
-  std::unique_ptr<RayCastHelper> ray_cast_helper;
+  std::unique_ptr<navigation::TaskThread> ray_cast_helper;
   if (options.threads >= 2) {
-    ray_cast_helper = std::make_unique<RayCastHelper>();
+    ray_cast_helper = std::make_unique<navigation::TaskThread>();
     sim.SetRayCastParallelFor([&nav, helper = ray_cast_helper.get()](std::size_t n, const std::function<void(std::size_t)>& fn) {
       if (nav.CycleRunning()) {
         for (std::size_t i = 0; i < n; ++i) fn(i);
       } else {
-        helper->ParallelFor(n, fn);
+        CastOnTwoThreads(helper, n, fn);
       }
     });
   }

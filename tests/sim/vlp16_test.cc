@@ -308,15 +308,25 @@ TEST(Vlp16Test, NoiseAndFaultsFollowTheirParameters) {
   }
 }
 
-TEST(Vlp16Test, DeterministicFromTheSeedWhateverTheStepSize) {
+/// Rough ground 40 m across, and a sensor with dropouts and outliers: every random draw in use.
+World RoughWorld() {
   World world = FlatWorld(40.0, 0.5);
   world.terrain.kind = TerrainConfig::Kind::kRough;
   world.terrain.rough.amplitude_m = 0.3;
-  const Scene scene(world);
+  return world;
+}
+
+Vlp16Sim::Config FaultyConfig(std::uint64_t seed) {
   Vlp16Sim::Config config;
   config.dropout_fraction = 0.1;
   config.outlier_fraction = 0.05;
-  config.seed = 11;
+  config.seed = seed;
+  return config;
+}
+
+TEST(Vlp16Test, DeterministicFromTheSeedWhateverTheStepSize) {
+  const Scene scene(RoughWorld());
+  Vlp16Sim::Config config = FaultyConfig(11);
   Vlp16Sim a(config, &scene.caster);
   Vlp16Sim b(config, &scene.caster);
   const std::vector<TrueScan> fine = RunParked(&a, 0.2, 0.001);
@@ -332,14 +342,8 @@ TEST(Vlp16Test, DeterministicFromTheSeedWhateverTheStepSize) {
 // The firings of a scan may be cast in any order and on any threads (issue 19's spread ray cast):
 // each draws its noise and faults from its own stream, so the scans are bit for bit the same.
 TEST(Vlp16Test, TheSameScansWhateverThreadsCastTheFirings) {
-  World world = FlatWorld(40.0, 0.5);
-  world.terrain.kind = TerrainConfig::Kind::kRough;
-  world.terrain.rough.amplitude_m = 0.3;
-  const Scene scene(world);
-  Vlp16Sim::Config config;
-  config.dropout_fraction = 0.1;
-  config.outlier_fraction = 0.05;
-  config.seed = 5;
+  const Scene scene(RoughWorld());
+  const Vlp16Sim::Config config = FaultyConfig(5);
   Vlp16Sim in_order(config, &scene.caster);
   Vlp16Sim spread(config, &scene.caster);
   std::size_t calls = 0;

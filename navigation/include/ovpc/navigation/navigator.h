@@ -21,6 +21,7 @@
 #include "ovpc/navigation/map_preparation.h"
 #include "ovpc/navigation/path_follower.h"
 #include "ovpc/navigation/path_planner.h"
+#include "ovpc/navigation/task_thread.h"
 #include "ovpc/core/vehicle_model.h"
 #include "ovpc/planner/local_goal.h"
 #include "ovpc/planner/local_planner.h"
@@ -231,7 +232,6 @@ class Navigator {
     Follow follow = Follow::kKeep;                  // what the follower is told when it takes effect
   };
   struct Job;    // one cycle: its inputs, state and results
-  class Worker;  // the thread cycles run on (RunCyclesOnAWorkerThread)
   struct Cycle;  // map-frame helpers of one cycle
   void Launch(double time_s, const Eigen::Isometry3d& T_O_B);
   void Finish();
@@ -267,7 +267,7 @@ class Navigator {
   std::unique_ptr<Job> job_;
   std::vector<Scan> incoming_;
   bool worker_thread_ = false;
-  std::unique_ptr<Worker> worker_;
+  std::unique_ptr<TaskThread> worker_;  // the thread cycles run on (RunCyclesOnAWorkerThread)
   // The latest map.
   std::shared_ptr<const planner::PlanningMap> map_;
   Eigen::Isometry3d map_T_O_L_ = Eigen::Isometry3d::Identity();
