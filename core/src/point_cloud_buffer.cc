@@ -277,15 +277,7 @@ class PointCloudBuffer::Grid {
     mask_ = slots_.size() - 1;
   }
 
-  /// Puts p_O into its voxel; false (nothing changed) when its index is beyond int32.
-  bool Add(const Vec3& p_O, Entry* entry) {
-    std::int32_t key[3];
-    if (!Locate(p_O, key, entry)) return false;
-    Insert(key, static_cast<std::uint32_t>(Hash(key)), entry);
-    return true;
-  }
-
-  /// Add for n <= kBatch points at once: their slots are prefetched first, so that the cache misses
+  /// Puts n <= kBatch points into their voxels at once: their slots are prefetched first, so that the cache misses
   /// overlap. ok[i] says whether point i was added.
   static constexpr std::size_t kBatch = 16;
   void AddBatch(const Vec3* p_O, std::size_t n, Entry* entries, bool* ok) {
