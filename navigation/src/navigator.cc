@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "ovpc/controller/rollout.h"
+
 namespace ovpc::navigation {
 namespace {
 
@@ -69,6 +71,9 @@ void Navigator::Config::Validate() const {
   if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0) || !std::isfinite(progress_back_m) ||
       !std::isfinite(progress_ahead_m)) {
     fail("navigator.progress_back_m must be >= 0 and progress_ahead_m > 0");
+  }
+  if (!std::isfinite(rollout_margin_m) || rollout_margin_m > 1.0) {
+    fail("navigator.rollout_margin_m must be at most 1 (negative disables)");
   }
   if (!(latency_s >= 0.0) || !(latency_s <= 1.0 / map_rate_hz)) {
     fail("navigator.latency_s must be in [0, the map period]");
@@ -132,6 +137,7 @@ Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O,
   }
   backend_ = plugins.map ? std::move(plugins.map) : MakeMapBackend(config_);
   planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner);
+  builtin_follower_ = !plugins.follower;
   follower_ = plugins.follower ? std::move(plugins.follower) : std::make_unique<PurePursuitFollower>(config_.follower);
   next_map_s_ = 1.0 / config_.map_rate_hz;
   next_control_s_ = 0.0;
@@ -170,6 +176,8 @@ struct Navigator::Job {
   Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
   bool following = false;          // the follower had a path it had not finished
   double progress_m = 0.0;
+  double speed_mps = 0.0;          // measured, and the steering commanded, at the launch
+  double steering_rad = 0.0;
   PlanState state;
   // Results.
   CycleRecord record;
@@ -253,6 +261,8 @@ void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
   // then, predicted from the pose now, the measured speed and the steering it is driving with.
   job.T_O_B = PredictPose(T_O_B, speed_mps_, command_.steering_rad, config_.vehicle.wheelbase_m, config_.latency_s);
   job.following = follower_->has_path() && !follower_->done();
+  job.speed_mps = speed_mps_;
+  job.steering_rad = command_.steering_rad;
   job.progress_m = progress_m_;
   job.state.path_O = path_O_;
   job.state.goal_O = goal_O_;
@@ -317,6 +327,34 @@ struct Navigator::Cycle {
   Pose2 vehicle_L;
   Vec3 L_to_O = Vec3::Zero();  // the translation of L in O
 };
+
+// The built-in follower driven along `path_L` from the cycle's vehicle pose (where the vehicle
+// will be when the path takes effect), at the speed and steering of the launch: does the vehicle
+// box, grown by rollout_margin_m, hit a map point on the way?
+bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::Path& path_L) const {
+  controller::BicycleModel::Config model;
+  model.wheelbase_m = config_.vehicle.wheelbase_m;
+  model.max_steering_rad = DegToRad(config_.vehicle.max_steering_deg);
+  // The simulated Gator's steering servo and drive are faster than these limits (its wheels swing
+  // 0.4 rad within a control period or two); they only keep the model physical and on the
+  // cautious side.
+  model.max_steering_rate_radps = 4.0;
+  model.max_accel_mps2 = 1.0;
+  controller::BicycleModel::State start;
+  start.pose = c.vehicle_L;
+  start.speed_mps = job.speed_mps;
+  start.steering_rad = job.steering_rad;
+  const double max_time_s = 2.0 * path_L.Length() / config_.follower.creep_speed_mps + 10.0;
+  const std::vector<Pose2> poses =
+      controller::Rollout(config_.follower, controller::BicycleModel(model), path_L, start,
+                          1.0 / config_.control_rate_hz, config_.planner.check_resolution_m, max_time_s);
+  planner::VehicleBox box = config_.planner.vehicle;
+  box.margin_m = config_.rollout_margin_m;
+  for (const Pose2& pose : poses) {
+    if (planner::CheckPose(*c.map, box, pose) == planner::PoseCheck::kCollision) return true;
+  }
+  return false;
+}
 
 void Navigator::MapCycle(Job* job) {
   CycleRecord& record = job->record;
@@ -494,6 +532,13 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
       ++job->plan_outcomes["kept current"];
       found = true;
       break;
+    }
+    if (plan.found() && !plan.path.empty() && config_.rollout_margin_m >= 0.0 && builtin_follower_ &&
+        RolloutCollides(*job, c, plan.path)) {
+      // The planner's poses are clear, but the follower would not keep to them.
+      job->plans.back().outcome = cycle->outcome = "rollout collision";
+      ++job->plan_outcomes["rollout collision"];
+      continue;
     }
     if (plan.found() && !plan.path.empty()) {
       ++job->replans_found;

@@ -229,6 +229,64 @@ TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// A planner whose path runs 6 m along x and turns into +y at a right angle: a corner sharper than
+// the vehicle's full-lock circle. Its poses keep 1 m clear of a post at (8, 3); the follower swings
+// out past the corner and would hit it.
+class CornerPlanner final : public PathPlanner {
+ public:
+  planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2&,
+                           const std::vector<double>&) const override {
+    planner::PlanResult r;
+    r.status = planner::PlanStatus::kFound;
+    planner::PathSegment seg;
+    for (int i = 0; i <= 60; ++i) seg.poses.push_back({Pose2{start.x_m + 0.1 * i, start.y_m, 0.0}, 0.0});
+    for (int i = 1; i <= 50; ++i) seg.poses.push_back({Pose2{start.x_m + 6.0, start.y_m + 0.1 * i, kPi / 2}, 0.0});
+    r.path = planner::Path({seg});
+    return r;
+  }
+  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
+                                              std::size_t) const override {
+    return std::nullopt;
+  }
+};
+
+TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
+  synth::Scene scene;
+  scene.cylinders.push_back({Vec3(8.0, 3.0, 0.0), 0.2, 2.0});
+  const auto scans = [&] {
+    return synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1);
+  };
+  for (const double margin : {-1.0, 0.05}) {
+    Navigator::Config config = FlatConfig();
+    config.rollout_margin_m = margin;
+    Navigator::Plugins plugins;
+    plugins.planner = std::make_unique<CornerPlanner>();
+    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+    FirstCycle(&nav, scans());
+    ASSERT_FALSE(nav.plan_log().empty());
+    if (margin < 0.0) {
+      EXPECT_TRUE(nav.has_path()) << "without the rollout the path is taken";
+      EXPECT_EQ(nav.plan_log().back().outcome, "found");
+    } else {
+      EXPECT_FALSE(nav.has_path());
+      EXPECT_EQ(nav.plan_log().back().outcome, "rollout collision");
+      EXPECT_EQ(nav.cycles().back().outcome, "rollout collision");
+    }
+  }
+  // Without the post the same path is taken: the rollout checks collisions, nothing else.
+  Navigator::Config config = FlatConfig();
+  config.rollout_margin_m = 0.05;
+  Navigator::Plugins plugins;
+  plugins.planner = std::make_unique<CornerPlanner>();
+  Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+  FirstCycle(&nav, synth::SimulateScans(synth::Scene{}, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0,
+                                        25, 0.01, 1));
+  EXPECT_TRUE(nav.has_path());
+  Navigator::Config bad = FlatConfig();
+  bad.rollout_margin_m = 2.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 // With a latency the cycle's path is driven from time_s + latency_s: it starts where the vehicle
 // will be then (here 1 m/s straight ahead for 0.1 s), not where it was when the cycle started.
 TEST(NavigatorTest, WithALatencyThePathStartsWhereTheVehicleWillBe) {

@@ -214,6 +214,7 @@ void VisitFields(V& v, Navigator::Config& c) {
   v.Field("min_prefix_m", c.min_prefix_m);
   v.Field("keep_path_within_m", c.keep_path_within_m);
   v.Field("cusp_cost_m", c.cusp_cost_m);
+  v.Field("rollout_margin_m", c.rollout_margin_m);
   v.Field("progress_back_m", c.progress_back_m);
   v.Field("progress_ahead_m", c.progress_ahead_m);
   v.Field("latency_s", c.latency_s);

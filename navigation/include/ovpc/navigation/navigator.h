@@ -139,6 +139,13 @@ class Navigator {
     /// on the spot. Negative: every new path replaces the current one (the paper's rule).
     double keep_path_within_m = -1.0;
     double cusp_cost_m = 0.0;
+    /// A new path is taken only if the built-in follower, driven along it from where the vehicle
+    /// will be (controller::Rollout), keeps the vehicle box grown by this margin clear of every map
+    /// point (a collision; the ground checks are the path's own). The planner checks the path's
+    /// poses; the vehicle drives the follower's: a cusp segment shorter than the follower's stop
+    /// tolerance is skipped and a corner is cut. Negative: off (the paper's rule). With a follower
+    /// plug-in there is no rollout (its behaviour is not known).
+    double rollout_margin_m = -1.0;
     /// Route progress is tracked in a window this far back and ahead of the last progress, so that a
     /// route passing near itself is not taken as done when the vehicle cuts across.
     double progress_back_m = 5.0;
@@ -234,6 +241,7 @@ class Navigator {
   struct Job;    // one cycle: its inputs, state and results
   struct Cycle;  // map-frame helpers of one cycle
   void Launch(double time_s, const Eigen::Isometry3d& T_O_B);
+  bool RolloutCollides(const Job& job, const Cycle& c, const planner::Path& path_L) const;
   void Finish();
   void MapCycle(Job* job);
   bool PathBlocked(const Job& job, const Cycle& c, std::size_t* closest, std::size_t* blocked_index) const;
@@ -255,6 +263,7 @@ class Navigator {
   double next_map_s_ = 0.0, next_control_s_ = 0.0;
   controller::Command command_;
   double speed_mps_ = 0.0;  // measured, at the last control tick
+  bool builtin_follower_ = true;  // no follower plug-in: the rollout models the follower
   // Re-planning state (in effect).
   planner::Path path_O_;
   std::optional<Eigen::Vector2d> goal_O_;
