@@ -79,22 +79,12 @@ class VoxelAccumulator {
     for (std::size_t i = 0; i < n; ++i) Add(keys[i], hashes[i], points[i]);
   }
 
-  /// Appends the centroids of the voxels with at least `min_hits` points to `out`, in voxel order,
-  /// subsampled like Subsample(centroids, max_points, seed) without forming the dropped centroids.
-  /// Voxels with their centroid within near_range_m of the origin need near_min_hits instead.
-  void Extract(int min_hits, std::size_t max_points, std::uint64_t seed, Points* out, BufferStats* stats,
-               double near_range_m = 0.0, int near_min_hits = 0) const {
-    const auto far_count = static_cast<std::uint32_t>(min_hits);
-    const auto near_count = static_cast<std::uint32_t>(std::max(min_hits, near_min_hits));
-    const double near2 = near_range_m * near_range_m;
-    const auto keeps = [&](const Voxel& v) {
-      if (v.count < far_count) return false;
-      if (v.count >= near_count || near2 <= 0.0) return true;
-      return (v.sum / static_cast<double>(v.count)).squaredNorm() >= near2;
-    };
+  /// Appends the centroids of the voxels with at least `min_hits` points to `out`, in voxel order.
+  void Extract(int min_hits, Points* out, BufferStats* stats) const {
+    const auto min_count = static_cast<std::uint32_t>(min_hits);
     std::size_t kept = 0, sparse = 0;
     for (const Voxel& v : voxels_) {
-      if (keeps(v)) {
+      if (v.count >= min_count) {
         ++kept;
       } else {
         sparse += v.count;
@@ -104,21 +94,10 @@ class VoxelAccumulator {
       stats->voxel_sparse += sparse;
       stats->voxels_kept += kept;
     }
-    if (kept <= max_points) {
-      out->reserve(out->size() + kept);
-      for (const Voxel& v : voxels_) {
-        if (keeps(v)) out->push_back(v.sum / static_cast<double>(v.count));
-      }
-      return;
-    }
-    const SubsampleThreshold keep(kept, max_points, seed);
-    out->reserve(out->size() + max_points);
-    std::size_t i = 0;
+    out->reserve(out->size() + kept);
     for (const Voxel& v : voxels_) {
-      if (!keeps(v)) continue;
-      if (keep(i++)) out->push_back(v.sum / static_cast<double>(v.count));
+      if (v.count >= min_count) out->push_back(v.sum / static_cast<double>(v.count));
     }
-    if (stats != nullptr) stats->subsampled_out += kept - max_points;
   }
 
  private:
@@ -201,7 +180,7 @@ Points VoxelFilterWith(const Points& points, double voxel_size_m, int min_hits, 
   voxels.Reset(voxel_size_m, points.size());
   for (std::size_t i = 0; i < points.size(); i += kBatch) voxels.AddBatch(&points[i], std::min(kBatch, points.size() - i));
   Points out;
-  voxels.Extract(min_hits, std::numeric_limits<std::size_t>::max(), 0, &out, stats);
+  voxels.Extract(min_hits, &out, stats);
   return out;
 }
 
