@@ -61,6 +61,13 @@ inline double DistanceToPolyline(const std::vector<PathPose>& poses, const Eigen
   return best;
 }
 
+/// The vehicle standing at (x, y) with heading yaw, wheels straight.
+inline BicycleModel::State At(double x, double y, double yaw) {
+  BicycleModel::State s;
+  s.pose = Pose2{x, y, yaw};
+  return s;
+}
+
 struct Step {
   double t_s;
   BicycleModel::State state;

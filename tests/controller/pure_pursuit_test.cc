@@ -13,12 +13,6 @@ namespace {
 
 using namespace testing;  // NOLINT: the support helpers
 
-BicycleModel::State At(double x, double y, double yaw) {
-  BicycleModel::State s;
-  s.pose = Pose2{x, y, yaw};
-  return s;
-}
-
 double Last(const std::vector<Step>& log, const Eigen::Vector2d& goal) {
   return (Position(log.back().state) - goal).norm();
 }

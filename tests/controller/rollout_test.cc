@@ -15,12 +15,6 @@ namespace {
 
 using namespace testing;  // NOLINT: the support helpers
 
-BicycleModel::State Standing(double x, double y, double yaw) {
-  BicycleModel::State s;
-  s.pose = Pose2{x, y, yaw};
-  return s;
-}
-
 std::vector<Pose2> Roll(const Path& path, const BicycleModel::State& start) {
   return Rollout(PurePursuit::Config{}, BicycleModel(BicycleModel::Config{}), path, start, 0.02, 0.1, 120.0);
 }
@@ -33,7 +27,7 @@ double MaxDistanceToPath(const Path& path, const std::vector<Pose2>& poses) {
 
 TEST(RolloutTest, OnAStraightPathThePosesAreThePathsSpacedAsAsked) {
   const Path path({Straight(Direction::kForward, {0.0, 0.0}, {10.0, 0.0})});
-  const std::vector<Pose2> poses = Roll(path, Standing(0.0, 0.0, 0.0));
+  const std::vector<Pose2> poses = Roll(path, At(0.0, 0.0, 0.0));
   ASSERT_GT(poses.size(), 90u);
   EXPECT_EQ(poses.front().x_m, 0.0);
   for (std::size_t i = 1; i + 1 < poses.size(); ++i) {
@@ -51,7 +45,7 @@ TEST(RolloutTest, ASharpCornerIsOvershotAndAShortCuspSegmentIsSkipped) {
   PathSegment corner = Straight(Direction::kForward, {0.0, 0.0}, {6.0, 0.0});
   const PathSegment up = Straight(Direction::kForward, {6.0, 0.0}, {6.0, 8.0});
   corner.poses.insert(corner.poses.end(), up.poses.begin() + 1, up.poses.end());
-  const std::vector<Pose2> turned = Roll(Path({corner}), Standing(0.0, 0.0, 0.0));
+  const std::vector<Pose2> turned = Roll(Path({corner}), At(0.0, 0.0, 0.0));
   double max_x = -1e9;
   for (const Pose2& p : turned) max_x = std::max(max_x, p.x_m);
   EXPECT_GT(max_x, 7.0) << "the rear axle swings more than a metre past the corner";
@@ -62,14 +56,14 @@ TEST(RolloutTest, ASharpCornerIsOvershotAndAShortCuspSegmentIsSkipped) {
   const Path cusps({Straight(Direction::kForward, {0.0, 0.0}, {4.0, 0.0}),
                     Straight(Direction::kReverse, {4.0, 0.0}, {3.92, 0.0}),
                     Straight(Direction::kForward, {3.92, 0.0}, {8.0, 0.0})});
-  const std::vector<Pose2> skipped = Roll(cusps, Standing(0.0, 0.0, 0.0));
+  const std::vector<Pose2> skipped = Roll(cusps, At(0.0, 0.0, 0.0));
   for (std::size_t i = 1; i < skipped.size(); ++i) EXPECT_GE(skipped[i].x_m, skipped[i - 1].x_m - 1e-9);
   EXPECT_NEAR(skipped.back().x_m, 8.0, 0.15);
   // A reverse segment of a metre is driven.
   const Path back({Straight(Direction::kForward, {0.0, 0.0}, {4.0, 0.0}),
                    Straight(Direction::kReverse, {4.0, 0.0}, {3.0, 0.0}),
                    Straight(Direction::kForward, {3.0, 0.0}, {8.0, 0.0})});
-  const std::vector<Pose2> driven = Roll(back, Standing(0.0, 0.0, 0.0));
+  const std::vector<Pose2> driven = Roll(back, At(0.0, 0.0, 0.0));
   double least_after_cusp = 1e9;
   bool past_cusp = false;
   for (const Pose2& p : driven) {
@@ -82,7 +76,7 @@ TEST(RolloutTest, ASharpCornerIsOvershotAndAShortCuspSegmentIsSkipped) {
 TEST(RolloutTest, StartsFromTheGivenSpeedAndSteering) {
   // Moving at 1 m/s with full left lock onto a straight path along x: the first metre curves left.
   const Path path({Straight(Direction::kForward, {0.0, 0.0}, {10.0, 0.0})});
-  BicycleModel::State start = Standing(0.0, 0.0, 0.0);
+  BicycleModel::State start = At(0.0, 0.0, 0.0);
   start.speed_mps = 1.0;
   start.steering_rad = DegToRad(30.0);
   const BicycleModel::Config slow_steering;  // 60 deg/s
@@ -95,11 +89,11 @@ TEST(RolloutTest, StartsFromTheGivenSpeedAndSteering) {
 TEST(RolloutTest, BadArgumentsThrow) {
   const Path path({Straight(Direction::kForward, {0.0, 0.0}, {1.0, 0.0})});
   const BicycleModel model(BicycleModel::Config{});
-  EXPECT_THROW(Rollout(PurePursuit::Config{}, model, path, Standing(0, 0, 0), 0.0, 0.1, 1.0), std::invalid_argument);
-  EXPECT_THROW(Rollout(PurePursuit::Config{}, model, path, Standing(0, 0, 0), 0.02, -1.0, 1.0), std::invalid_argument);
-  EXPECT_THROW(Rollout(PurePursuit::Config{}, model, path, Standing(0, 0, 0), 0.02, 0.1, INFINITY),
+  EXPECT_THROW(Rollout(PurePursuit::Config{}, model, path, At(0, 0, 0), 0.0, 0.1, 1.0), std::invalid_argument);
+  EXPECT_THROW(Rollout(PurePursuit::Config{}, model, path, At(0, 0, 0), 0.02, -1.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(Rollout(PurePursuit::Config{}, model, path, At(0, 0, 0), 0.02, 0.1, INFINITY),
                std::invalid_argument);
-  EXPECT_EQ(Rollout(PurePursuit::Config{}, model, Path{}, Standing(1, 2, 0), 0.02, 0.1, 1.0).size(), 1u)
+  EXPECT_EQ(Rollout(PurePursuit::Config{}, model, Path{}, At(1, 2, 0), 0.02, 0.1, 1.0).size(), 1u)
       << "an empty path: the vehicle stays where it is";
 }
 
