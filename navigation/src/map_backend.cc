@@ -6,12 +6,13 @@
 #include <string>
 
 #include "ovpc/backends/elevation_columns.h"
+#include "stage_clock.h"
 
 namespace ovpc::navigation {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using internal::Clock;
+using internal::MsSince;
 
 // The per-update inputs of a column map.
 backends::ColumnMap::Config ColumnConfigFor(const backends::ColumnMap::Config& config, const MapContext& context) {

@@ -9,11 +9,13 @@
 #include <utility>
 
 #include "ovpc/controller/rollout.h"
+#include "stage_clock.h"
 
 namespace ovpc::navigation {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using internal::Clock;
+using internal::MsSince;
 using planner::Pose2;
 
 // The tick after `due_s` (which is at or before `time_s`): one period on, or, for a caller that fell
@@ -24,8 +26,6 @@ double NextTick(double time_s, double due_s, double period_s) {
   const double after = (std::floor((time_s + 1e-9) / period_s) + 1.0) * period_s;
   return time_s + 1e-9 >= after ? after + period_s : after;  // rounding may leave it at time_s
 }
-
-double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // A path in another frame with the same axes (the map frame L and the odometry frame O differ by a
 // translation).

@@ -12,12 +12,10 @@ namespace ovpc::planner {
 namespace {
 
 using testing::BuildScene;
+using testing::FlatMap;
+using testing::FlatPlanningScene;
 using testing::PlanningScene;
 
-const PlanningScene& Flat() {
-  static const PlanningScene scene = BuildScene(testing::FlatScene());
-  return scene;
-}
 
 const Eigen::Isometry3d kIdentity = Eigen::Isometry3d::Identity();
 
@@ -25,24 +23,24 @@ TEST(LocalGoalTest, FarthestRoutePointInsideTheMap) {
   // The route runs along y = 0 far beyond the map's edge at x = 11.
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {0.0, 0.0}, {40.0, 0.0}};
   const VehicleBox vehicle;
-  const auto goal = SelectLocalGoal(*Flat().map, vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalSelection::Config{});
+  const auto goal = SelectLocalGoal(FlatMap(), vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalSelection::Config{});
   ASSERT_TRUE(goal.has_value());
   EXPECT_FALSE(goal->is_route_end);
   EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
   EXPECT_NEAR(goal->pose.yaw_rad, 0.0, 1e-12);
-  EXPECT_EQ(CheckPose(*Flat().map, vehicle, goal->pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(FlatMap(), vehicle, goal->pose), PoseCheck::kValid);
   // One step farther along the route the vehicle would no longer fit.
-  EXPECT_NE(CheckPose(*Flat().map, vehicle, Pose2{goal->pose.x_m + 0.25, 0.0, 0.0}), PoseCheck::kValid);
+  EXPECT_NE(CheckPose(FlatMap(), vehicle, Pose2{goal->pose.x_m + 0.25, 0.0, 0.0}), PoseCheck::kValid);
   EXPECT_GT(goal->pose.x_m, 7.0);
   EXPECT_NEAR(goal->route_progress_m, goal->pose.x_m + 20.0, 1e-9);
 
   // Only requiring known, traversable ground lets the goal go up to the map's rim.
   LocalGoalSelection::Config loose;
   loose.require_vehicle_fit = false;
-  const auto rim = SelectLocalGoal(*Flat().map, vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, loose);
+  const auto rim = SelectLocalGoal(FlatMap(), vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, loose);
   ASSERT_TRUE(rim.has_value());
   EXPECT_GT(rim->pose.x_m, goal->pose.x_m);
-  EXPECT_TRUE(Flat().map->IsKnownFree(rim->pose.x_m, rim->pose.y_m));
+  EXPECT_TRUE(FlatMap().IsKnownFree(rim->pose.x_m, rim->pose.y_m));
 }
 
 TEST(LocalGoalTest, RouteInTheOdometryFrameAndHeadingAlongTheRoute) {
@@ -52,7 +50,7 @@ TEST(LocalGoalTest, RouteInTheOdometryFrameAndHeadingAlongTheRoute) {
   // In L: from (-7, -3) north to (-7, 3), then east to (5, 3), then the route ends.
   const std::vector<Eigen::Vector2d> route_O = {{93.0, 47.0}, {93.0, 53.0}, {105.0, 53.0}};
   const auto goal =
-      SelectLocalGoal(*Flat().map, VehicleBox{}, route_O, T_L_O, Pose2{-7.0, -3.0, kPi / 2}, LocalGoalSelection::Config{});
+      SelectLocalGoal(FlatMap(), VehicleBox{}, route_O, T_L_O, Pose2{-7.0, -3.0, kPi / 2}, LocalGoalSelection::Config{});
   ASSERT_TRUE(goal.has_value());
   EXPECT_TRUE(goal->is_route_end);
   EXPECT_NEAR(goal->pose.x_m, 5.0, 1e-9);
@@ -65,10 +63,10 @@ TEST(LocalGoalTest, AtLeastTheMinimumDistanceAheadUnlessItIsTheEnd) {
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {-2.0, 0.0}, {20.0, 0.0}};
   LocalGoalSelection::Config config;
   config.min_distance_m = 30.0;  // no point of the route inside the map is that far
-  EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config));
+  EXPECT_FALSE(SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config));
   // The route's end qualifies at any distance.
   const std::vector<Eigen::Vector2d> short_route = {{-7.0, 0.0}, {-5.0, 0.0}};
-  const auto end = SelectLocalGoal(*Flat().map, VehicleBox{}, short_route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto end = SelectLocalGoal(FlatMap(), VehicleBox{}, short_route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(end.has_value());
   EXPECT_TRUE(end->is_route_end);
   EXPECT_NEAR(end->pose.x_m, -5.0, 1e-12);
@@ -79,10 +77,10 @@ TEST(LocalGoalTest, NothingBehindTheVehicle) {
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {8.5, 0.0}, {8.5, 40.0}};
   LocalGoalSelection::Config config;
   config.min_distance_m = 10.0;  // the route's start, 15 m behind, would qualify
-  EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{8.0, 0.0, 0.0}, config));
+  EXPECT_FALSE(SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{8.0, 0.0, 0.0}, config));
   // Closer goals ahead are found, on the second leg.
   config.min_distance_m = 4.0;
-  const auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{8.0, 0.0, 0.0}, config);
+  const auto goal = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{8.0, 0.0, 0.0}, config);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.x_m, 8.5, 1e-9);
   EXPECT_GE(goal->pose.y_m, 4.0);
@@ -90,14 +88,14 @@ TEST(LocalGoalTest, NothingBehindTheVehicle) {
 
   LocalGoalSelection::Config bad;
   bad.step_m = 0.0;
-  EXPECT_THROW(SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{}, bad), std::invalid_argument);
-  EXPECT_FALSE(SelectLocalGoal(*Flat().map, VehicleBox{}, {}, kIdentity, Pose2{}, LocalGoalSelection::Config{}));
+  EXPECT_THROW(SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{}, bad), std::invalid_argument);
+  EXPECT_FALSE(SelectLocalGoal(FlatMap(), VehicleBox{}, {}, kIdentity, Pose2{}, LocalGoalSelection::Config{}));
 }
 
 TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFurther) {
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {20.0, 0.0}};
   LocalGoalSelection::Config config;
-  const auto fresh = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto fresh = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(fresh.has_value());
   // A previous goal 1.5 m beside the route, 1 m short of the new one: it scores 1 m of progress
   // less, 0.75 m of offset penalty less (0.5 per metre) and its small detour to the route's end less.
@@ -107,22 +105,22 @@ TEST(LocalGoalTest, KeepsAPreviousGoalThatStillQualifiesUnlessTheNewOneIsMuchFur
   ASSERT_GT(behind, 1.75);
   ASSERT_LT(behind, 2.0);
   config.keep_previous_within_m = 0.0;  // off: the new goal
-  auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
+  auto goal = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
   config.keep_previous_within_m = 2.0;  // the new goal does not score 2 m more: keep the previous one
-  goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
+  goal = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.y_m, 1.5, 1e-12);
   EXPECT_NEAR(goal->route_progress_m, previous.route_progress_m, 1e-12);
   config.keep_previous_within_m = 1.5;  // 1 m further along the route, but it scores more than 1.5 m more: take it
-  goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
+  goal = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, previous);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.y_m, 0.0, 1e-12);
   // A previous goal that no longer qualifies (outside the map) is dropped.
   config.keep_previous_within_m = 100.0;
   const LocalGoal gone{Pose2{60.0, 0.0, 0.0}, 67.0, false};
-  goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, gone);
+  goal = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config, gone);
   ASSERT_TRUE(goal.has_value());
   EXPECT_NEAR(goal->pose.x_m, fresh->pose.x_m, 1e-12);
 }
@@ -263,16 +261,16 @@ TEST(LocalGoalTest, CandidatesEndWhereTheRouteLeavesTheMapForLongerThanTheGap) {
   // The route leaves the flat map (x beyond about 11) and comes back into it on the way home.
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {40.0, 0.0}, {40.0, 3.0}, {-7.0, 3.0}};
   LocalGoalSelection::Config config;
-  const auto no_limit = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto no_limit = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(no_limit.has_value());
   EXPECT_GT(no_limit->route_progress_m, 50.0);  // on the way home: cuts the route short
   config.max_gap_m = 8.0;
-  const auto limited = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto limited = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(limited.has_value());
   EXPECT_LT(limited->route_progress_m, 20.0);
   EXPECT_NEAR(limited->pose.y_m, 0.0, 1e-12);
   // Tracked progress puts "ahead" where the vehicle is along the route, not at the nearest lap.
-  const auto home = SelectLocalGoals(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{5.0, 0.2, 0.0}, config,
+  const auto home = SelectLocalGoals(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{5.0, 0.2, 0.0}, config,
                                      std::nullopt, 1, 80.0);  // at x = 10 on the way home
   ASSERT_EQ(home.size(), 1u);
   EXPECT_GT(home.front().route_progress_m, 80.0);
@@ -285,17 +283,17 @@ TEST(LocalGoalTest, CandidatesEndAtMostMaxAheadAlongTheRoute) {
   const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {6.0, 0.0}, {6.0, 3.0}, {-7.0, 3.0}};
   LocalGoalSelection::Config config;
   config.max_gap_m = 8.0;
-  const auto no_limit = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto no_limit = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(no_limit.has_value());
   EXPECT_GT(no_limit->route_progress_m, 16.0);  // past the turn, on the way back
   config.max_ahead_m = 8.0;
-  const auto limited = SelectLocalGoals(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config,
+  const auto limited = SelectLocalGoals(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config,
                                         std::nullopt, 5, 0.0);
   ASSERT_FALSE(limited.empty());
   for (const LocalGoal& g : limited) EXPECT_LE(g.route_progress_m, 8.0 + 1e-9);
   EXPECT_NEAR(limited.front().route_progress_m, 8.0, 0.3);
   // The limit moves with the vehicle's progress.
-  const auto later = SelectLocalGoals(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{1.0, 0.0, 0.0}, config,
+  const auto later = SelectLocalGoals(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{1.0, 0.0, 0.0}, config,
                                       std::nullopt, 1, 8.0);
   ASSERT_EQ(later.size(), 1u);
   EXPECT_GT(later.front().route_progress_m, 8.0);
@@ -387,15 +385,15 @@ TEST(LocalGoalTest, ReachableGoalOnOpenGroundFollowsTheRoute) {
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {0.0, 0.0}, {40.0, 0.0}};
   LocalGoalSelection::Config config;
   config.mode = LocalGoalSelection::Config::Mode::kReachable;
-  const auto goal = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto goal = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(goal.has_value());
   EXPECT_GT(goal->pose.x_m, 5.0);  // near the map's far rim along the route
   EXPECT_LT(std::abs(goal->pose.y_m), 1.5);
-  EXPECT_EQ(CheckPose(*Flat().map, VehicleBox{}, goal->pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(FlatMap(), VehicleBox{}, goal->pose), PoseCheck::kValid);
   // Weighing the distance from the route keeps the goal on it here (and never moves it away).
   LocalGoalSelection::Config near_route = config;
   near_route.reach_offset_penalty = 0.5;
-  const auto on_route = SelectLocalGoal(*Flat().map, VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, near_route);
+  const auto on_route = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, near_route);
   ASSERT_TRUE(on_route.has_value());
   EXPECT_LE(std::abs(on_route->pose.y_m), std::abs(goal->pose.y_m) + 1e-9);
   near_route.reach_offset_penalty = -1.0;
@@ -403,7 +401,7 @@ TEST(LocalGoalTest, ReachableGoalOnOpenGroundFollowsTheRoute) {
 
   // The route's end, when reached, is the goal itself.
   const std::vector<Eigen::Vector2d> short_route = {{-7.0, 0.0}, {3.0, 2.0}};
-  const auto end = SelectLocalGoal(*Flat().map, VehicleBox{}, short_route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  const auto end = SelectLocalGoal(FlatMap(), VehicleBox{}, short_route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
   ASSERT_TRUE(end.has_value());
   EXPECT_TRUE(end->is_route_end);
   EXPECT_NEAR(end->pose.x_m, 3.0, 1e-9);

@@ -14,6 +14,8 @@ namespace ovpc::planner {
 namespace {
 
 using testing::BuildScene;
+using testing::FlatMap;
+using testing::FlatPlanningScene;
 using testing::PlanningScene;
 
 const Pose2 kStart{-7.0, 0.0, 0.0};
@@ -33,10 +35,6 @@ PlanResult PlanScene(const LocalPlanner& planner, const PlanningScene& scene) {
 }
 
 // Scenes are built once per test program: the mapper is the slow part.
-const PlanningScene& Flat() {
-  static const PlanningScene scene = BuildScene(testing::FlatScene());
-  return scene;
-}
 const PlanningScene& Posts() {
   static const PlanningScene scene = BuildScene(testing::PostsScene());
   return scene;
@@ -95,7 +93,7 @@ bool InFootprint(const VehicleBox& vehicle, const Pose2& pose, double px, double
 }
 
 TEST(LocalPlannerTest, ScenesAreBuiltByTheMapper) {
-  for (const PlanningScene* scene : {&Flat(), &Posts(), &Carport(), &LowRoof()}) {
+  for (const PlanningScene* scene : {&FlatPlanningScene(), &Posts(), &Carport(), &LowRoof()}) {
     ASSERT_TRUE(scene->ovpc.ok()) << scene->ovpc.message;
     EXPECT_GT(scene->map->cloud().size(), 1000u);
   }
@@ -105,8 +103,8 @@ TEST(LocalPlannerTest, FlatGroundGivesANearStraightForwardPath) {
   for (const std::uint32_t seed : kSeeds) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const LocalPlanner planner = SeededPlanner(seed);
-    const PlanResult result = planner.Plan(*Flat().map, kStart, kGoal);
-    ExpectWellFormed(result, *Flat().map, planner, kStart, kGoal);
+    const PlanResult result = planner.Plan(FlatMap(), kStart, kGoal);
+    ExpectWellFormed(result, FlatMap(), planner, kStart, kGoal);
     EXPECT_EQ(result.path.segments().size(), 1u);
     EXPECT_EQ(result.path.segments().front().direction, Direction::kForward);
     EXPECT_LT(result.path.Length(), 1.05 * 14.0);
@@ -250,8 +248,8 @@ TEST(LocalPlannerTest, ReversesWhenTheGoalIsBehind) {
   const LocalPlanner planner(LocalPlanner::Config{});
   const Pose2 start{-5.0, 0.0, kPi};  // +pi must be accepted and normalised to -pi
   const Pose2 goal{3.0, 0.0, -kPi};
-  const PlanResult result = planner.Plan(*Flat().map, start, goal);
-  ExpectWellFormed(result, *Flat().map, planner, start, goal);
+  const PlanResult result = planner.Plan(FlatMap(), start, goal);
+  ExpectWellFormed(result, FlatMap(), planner, start, goal);
   ASSERT_EQ(result.path.segments().size(), 1u);
   EXPECT_EQ(result.path.segments().front().direction, Direction::kReverse);
   EXPECT_NEAR(result.path.Length(), 8.0, 0.05);
@@ -264,8 +262,8 @@ TEST(LocalPlannerTest, SidewaysGoalNeedsCusps) {
   const LocalPlanner planner(LocalPlanner::Config{});
   const Pose2 start{-3.0, 0.0, 0.0};
   const Pose2 goal{-3.0, 1.5, 0.0};
-  const PlanResult result = planner.Plan(*Flat().map, start, goal);
-  ExpectWellFormed(result, *Flat().map, planner, start, goal);
+  const PlanResult result = planner.Plan(FlatMap(), start, goal);
+  ExpectWellFormed(result, FlatMap(), planner, start, goal);
   EXPECT_GE(result.path.NumCusps(), 1);
 }
 
@@ -276,7 +274,7 @@ TEST(LocalPlannerTest, AGoalWithOtherHeadingsArrivesAtAnyOfThem) {
   const Pose2 start{-3.0, 0.0, 0.0};
   const Pose2 goal{-1.0, 1.5, 0.0};
   const double direct = std::atan2(1.5, 2.0);
-  const PlanResult result = planner.Plan(*Flat().map, start, goal, {direct});
+  const PlanResult result = planner.Plan(FlatMap(), start, goal, {direct});
   ASSERT_TRUE(result.found()) << PlanStatusName(result.status);
   const Pose2 end = result.path.Poses().back().pose;
   EXPECT_NEAR(end.x_m, goal.x_m, 1e-6);
@@ -295,9 +293,9 @@ TEST(LocalPlannerTest, AGoalWithOtherHeadingsArrivesAtAnyOfThem) {
 
 TEST(LocalPlannerTest, PathBlockedAfterAMapUpdateIsDetected) {
   const LocalPlanner planner(LocalPlanner::Config{});
-  const PlanResult result = planner.Plan(*Flat().map, kStart, kGoal);
+  const PlanResult result = planner.Plan(FlatMap(), kStart, kGoal);
   ASSERT_TRUE(result.found());
-  EXPECT_FALSE(planner.FirstInvalidPose(*Flat().map, result.path).has_value());
+  EXPECT_FALSE(planner.FirstInvalidPose(FlatMap(), result.path).has_value());
   // The same straight path on the map with posts across it.
   const auto blocked = planner.FirstInvalidPose(*Posts().map, result.path);
   ASSERT_TRUE(blocked.has_value());

@@ -109,6 +109,13 @@ inline PlanningScene BuildScene(const SceneSpec& spec) {
 
 inline SceneSpec FlatScene() { return SceneSpec{}; }
 
+/// The flat scene built once per test program (the mapper is the slow part).
+inline const PlanningScene& FlatPlanningScene() {
+  static const PlanningScene scene = BuildScene(FlatScene());
+  return scene;
+}
+inline const planner::VertexCloudMap& FlatMap() { return *FlatPlanningScene().map; }
+
 /// A 3 x 3 cluster of posts 1.2 m apart across the straight line: the gaps are narrower than the
 /// vehicle. Scanned from the side.
 inline SceneSpec PostsScene() {

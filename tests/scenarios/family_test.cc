@@ -52,7 +52,7 @@ std::string Replaced(std::string text, const std::string& from, const std::strin
 }
 
 // The error of reading and drawing a family ("" if none).
-std::string ErrorOf(const std::string& text, std::size_t samples = 8) {
+std::string FamilyErrorOf(const std::string& text, std::size_t samples = 8) {
   try {
     DrawFamily(ParseFamily(text, "fam.yaml"), {samples, 1});
   } catch (const ScenarioError& e) {
@@ -209,10 +209,10 @@ TEST_F(FamilyTest, AGridTooLargeToCountIsRefusedNotWrapped) {
   const std::string text = Replaced(kFamily, "  side: {choice: [left, right]}\n", "  side: {choice: [left, right]}\n" + grid);
   const Family f = ParseFamily(text, "fam.yaml");
   EXPECT_EQ(GridPoints(f), std::numeric_limits<std::size_t>::max());
-  EXPECT_NE(ErrorOf(text, 1).find("draws"), std::string::npos) << ErrorOf(text, 1);
+  EXPECT_NE(FamilyErrorOf(text, 1).find("draws"), std::string::npos) << FamilyErrorOf(text, 1);
   // Two grid points times a huge sample count wrapped to 2 draws' worth and drew for ever; refused.
   const std::string two = Replaced(kFamily, "side: {choice: [left, right]}", "side: {grid: [left, right]}");
-  EXPECT_NE(ErrorOf(two, std::numeric_limits<std::size_t>::max() / 2 + 2).find("draws"), std::string::npos);
+  EXPECT_NE(FamilyErrorOf(two, std::numeric_limits<std::size_t>::max() / 2 + 2).find("draws"), std::string::npos);
 }
 
 TEST_F(FamilyTest, AWrittenDrawReloadsWithTheDrawnValues) {
@@ -300,46 +300,46 @@ TEST_F(FamilyTest, ATemplatedNameGivesTheFileStemAndTheDrawsNumberedNames) {
 
 TEST_F(FamilyTest, MalformedFamiliesNameFileLineAndProblem) {
   const auto starts = [](const std::string& error, const std::string& prefix) { return error.rfind(prefix, 0) == 0; };
-  std::string e = ErrorOf(Replaced(kFamily, "{uniform: [1.5, 3.5]}", "{gaussian: [1.5, 3.5]}"));
+  std::string e = FamilyErrorOf(Replaced(kFamily, "{uniform: [1.5, 3.5]}", "{gaussian: [1.5, 3.5]}"));
   EXPECT_TRUE(starts(e, "fam.yaml:4: 'parameters.roof_m': unknown distribution 'gaussian'")) << e;
-  e = ErrorOf(Replaced(kFamily, "roof_height_m: $roof_m", "roof_height_m: $roof"));
+  e = FamilyErrorOf(Replaced(kFamily, "roof_height_m: $roof_m", "roof_height_m: $roof"));
   EXPECT_TRUE(starts(e, "fam.yaml:8: '$roof' is not a parameter (parameters: ")) << e;
-  e = ErrorOf(Replaced(kFamily, "${roof_m + 0.25}", "${roof + 0.25}"));
+  e = FamilyErrorOf(Replaced(kFamily, "${roof_m + 0.25}", "${roof + 0.25}"));
   EXPECT_TRUE(starts(e, "fam.yaml:9: 'roof' in '${roof + 0.25}' is not a parameter")) << e;
-  e = ErrorOf(Replaced(kFamily, "${roof_m + 0.25}", "${roof_m +}"));
+  e = FamilyErrorOf(Replaced(kFamily, "${roof_m + 0.25}", "${roof_m +}"));
   EXPECT_TRUE(starts(e, "fam.yaml:9: in 'roof_m +' at column 9:")) << e;
-  e = ErrorOf(Replaced(kFamily, "[1.5, 3.5]", "[3, 1]"));
+  e = FamilyErrorOf(Replaced(kFamily, "[1.5, 3.5]", "[3, 1]"));
   EXPECT_TRUE(starts(e, "fam.yaml:4: 'parameters.roof_m.uniform' must be [lo, hi] with lo < hi")) << e;
-  e = ErrorOf(Replaced(kFamily, "[1.5, 3.5]", "[low, 3.5]"));
+  e = FamilyErrorOf(Replaced(kFamily, "[1.5, 3.5]", "[low, 3.5]"));
   EXPECT_TRUE(starts(e, "fam.yaml:4: 'parameters.roof_m.uniform' must be a number, got 'low'")) << e;
-  e = ErrorOf(Replaced(kFamily, "{normal: [0, 1], clip: [-2, 2]}", "{normal: [0, -1]}"));
+  e = FamilyErrorOf(Replaced(kFamily, "{normal: [0, 1], clip: [-2, 2]}", "{normal: [0, -1]}"));
   EXPECT_TRUE(starts(e, "fam.yaml:10: 'objects.2.box.y_m.normal' needs sigma > 0")) << e;
-  e = ErrorOf(Replaced(Replaced(kFamily, "  - {then: any, reason: tight}\n", ""), "roof_m >= 2.4", "roof_m >= 3.4"));
+  e = FamilyErrorOf(Replaced(Replaced(kFamily, "  - {then: any, reason: tight}\n", ""), "roof_m >= 2.4", "roof_m >= 3.4"));
   EXPECT_TRUE(starts(e, "fam.yaml:15: draw ")) << e;
   EXPECT_NE(e.find("matches no rule of 'expect'"), std::string::npos) << e;
-  e = ErrorOf(Replaced(kFamily, "    forbidden: [{name: under, min_m: [8, -2], max_m: [12, 2]}]\n", ""));
+  e = FamilyErrorOf(Replaced(kFamily, "    forbidden: [{name: under, min_m: [8, -2], max_m: [12, 2]}]\n", ""));
   EXPECT_TRUE(starts(e, "fam.yaml:16: 'expect[1]': a refuse rule needs forbidden regions")) << e;
-  e = ErrorOf(Replaced(kFamily, "route:", "navigator:\n  local_goal: {mode: reachable}\nroute:"));
+  e = FamilyErrorOf(Replaced(kFamily, "route:", "navigator:\n  local_goal: {mode: reachable}\nroute:"));
   EXPECT_TRUE(starts(e, "fam.yaml:11: a family must not have a 'navigator:' section")) << e;
-  e = ErrorOf(Replaced(kFamily, "max_m: [12, 2]}]\n", "max_m: [12, {uniform: [1, 2]}]}]\n"));
+  e = FamilyErrorOf(Replaced(kFamily, "max_m: [12, 2]}]\n", "max_m: [12, {uniform: [1, 2]}]}]\n"));
   EXPECT_TRUE(starts(e, "fam.yaml:18: a distribution in an expect rule")) << e;
-  e = ErrorOf(Replaced(kFamily, "then: pass}", "then: succeed}"));
+  e = FamilyErrorOf(Replaced(kFamily, "then: pass}", "then: succeed}"));
   EXPECT_TRUE(starts(e, "fam.yaml:15: 'expect[0].then' must be pass, refuse or any, got 'succeed'")) << e;
-  e = ErrorOf(Replaced(kFamily, "reason: tight", "because: tight"));
+  e = FamilyErrorOf(Replaced(kFamily, "reason: tight", "because: tight"));
   EXPECT_TRUE(starts(e, "fam.yaml:20: unknown key 'expect[3].because'")) << e;
-  e = ErrorOf(Replaced(kFamily, "roof_m >= 2.4", "height >= 2.4"));
+  e = FamilyErrorOf(Replaced(kFamily, "roof_m >= 2.4", "height >= 2.4"));
   EXPECT_TRUE(starts(e, "fam.yaml:15: 'height' in 'expect[0].when' is not a parameter")) << e;
-  e = ErrorOf(Replaced(kFamily, "roof_m >= 2.4", "roof_m >= side"));
+  e = FamilyErrorOf(Replaced(kFamily, "roof_m >= 2.4", "roof_m >= side"));
   EXPECT_TRUE(starts(e, "fam.yaml:15: in 'roof_m >= side': '")) << e;
   EXPECT_NE(e.find("is a word, not a number"), std::string::npos) << e;
   // The body is checked as a scenario, with the family's lines.
-  e = ErrorOf(Replaced(kFamily, "roof_height_m: $roof_m", "roof_hieght_m: $roof_m"));
+  e = FamilyErrorOf(Replaced(kFamily, "roof_height_m: $roof_m", "roof_hieght_m: $roof_m"));
   EXPECT_TRUE(starts(e, "fam.yaml:8: unknown key 'objects[0].carport.roof_hieght_m'")) << e;
-  e = ErrorOf(Replaced(kFamily, "x_m: 5.0, y_m: 3.0", "x_m: $side, y_m: 3.0"));
+  e = FamilyErrorOf(Replaced(kFamily, "x_m: 5.0, y_m: 3.0", "x_m: $side, y_m: 3.0"));
   EXPECT_TRUE(starts(e, "fam.yaml:9: 'objects[1].cylinder.x_m' must be a number, got '")) << e;
-  e = ErrorOf(Replaced(kFamily, "expect:", "expected:"));
+  e = FamilyErrorOf(Replaced(kFamily, "expect:", "expected:"));
   EXPECT_TRUE(starts(e, "fam.yaml:1: a family needs 'expect:'")) << e;
-  EXPECT_TRUE(starts(ErrorOf(kFamily, 0), "fam.yaml: the number of samples must be at least 1"));
+  EXPECT_TRUE(starts(FamilyErrorOf(kFamily, 0), "fam.yaml: the number of samples must be at least 1"));
 }
 
 }  // namespace
