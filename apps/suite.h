@@ -37,6 +37,7 @@ struct Job {
   std::vector<std::string> settings;  // key=value
   std::string out_dir;
   std::string map;  // the map backend of the run (navigator.map with its settings and --map)
+  double time_limit_s = 0.0;  // the scenario's simulated time limit: the longest runs start first
   pid_t pid = 0;
   int exit_code = -1;
   nlohmann::json result = nlohmann::json::object();

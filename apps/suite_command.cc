@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -135,7 +136,7 @@ class Planner {
       const std::string suffix = tag.substr(s.name.size());
       for (int k = 2; tag_files_.count(tag) && tag_files_[tag] != file; ++k) tag = s.name + "_" + std::to_string(k) + suffix;
       tag_files_[tag] = file;
-      AddSeeds(file, s.name, combo, fs::path(o_.out) / tag, std::nullopt, MapOf(file, combo));
+      AddSeeds(file, s.name, combo, fs::path(o_.out) / tag, std::nullopt, MapOf(file, combo), s.time_limit_s);
     }
   }
 
@@ -177,7 +178,7 @@ class Planner {
     }
   }
   void AddSeeds(const std::string& file, const std::string& name, const std::vector<std::string>& combo, const fs::path& dir,
-                const std::optional<DrawRun>& draw, const std::string& map) {
+                const std::optional<DrawRun>& draw, const std::string& map, double time_limit_s) {
     for (int seed = o_.first_seed; seed < o_.first_seed + o_.seeds; ++seed) {
       Job job;
       job.file = file;
@@ -187,6 +188,7 @@ class Planner {
       job.out_dir = (dir / ("seed_" + std::to_string(seed))).string();
       job.draw = draw;
       job.map = map;
+      job.time_limit_s = time_limit_s;
       jobs.push_back(job);
     }
   }
@@ -228,7 +230,8 @@ void Planner::AddFamily(const std::string& file) {
     if (Skipped(s)) continue;
     const fs::path draw_dir = fs::path(in.files[i]).parent_path();
     for (const auto& combo : combos_) {
-      AddSeeds(in.files[i], s.name, combo, draw_dir / Tag(combo, ""), DrawRun{families.size(), i}, MapOf(in.files[i], combo));
+      AddSeeds(in.files[i], s.name, combo, draw_dir / Tag(combo, ""), DrawRun{families.size(), i}, MapOf(in.files[i], combo),
+               s.time_limit_s);
     }
   }
   families.push_back(std::move(in));
@@ -333,16 +336,23 @@ void RunAll(std::vector<Job>& jobs, const Options& o, const std::vector<FamilyIn
     }
     std::fflush(stderr);
   };
+  // The runs with the longest time limits start first, so that a long run (mixed_long's 1,500 s)
+  // does not start last and leave the other jobs' cores idle while it finishes. The reports keep
+  // the input order.
+  std::vector<std::size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return jobs[a].time_limit_s > jobs[b].time_limit_s; });
   while (done < jobs.size()) {
     while (running < static_cast<std::size_t>(o.jobs) && next < jobs.size()) {
-      Job& job = jobs[next];
+      Job& job = jobs[order[next]];
       if (not_run(job)) {  // a malformed file: nothing to run
         ++next;
         ++done;
         continue;
       }
       Start(job, o, self);
-      by_pid[job.pid] = next++;
+      by_pid[job.pid] = order[next++];
       ++running;
       progress(nullptr);
     }
@@ -368,7 +378,8 @@ Runner RegisterSuite(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("suite", "Run many scenarios (and seeds, parameter sweeps, scenario families) in parallel processes");
   cmd->footer(
-      "Each run is `ovpc run` in its own process, writing to OUT/<scenario>[__<settings>]/seed_<k>. Prints a\n"
+      "Each run is `ovpc run` in its own process, writing to OUT/<scenario>[__<settings>]/seed_<k>; the runs with\n"
+      "the longest time limits start first, and the reports keep the order of the inputs. Prints a\n"
       "summary table, and writes OUT/junit.xml and OUT/summary.json. A malformed scenario file, a run killed or\n"
       "crashed, or one that left no result.json is an error of that run (JUnit <error>); the others run and are\n"
       "reported. A scenario family (a file with `parameters:`) is drawn into OUT/<family>/draw_<iii>/scenario.yaml\n"

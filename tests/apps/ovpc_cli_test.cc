@@ -382,6 +382,22 @@ TEST_F(CliTest, SuiteGivesFilesWithOneScenarioNameFoldersOfTheirOwn) {
   }
 }
 
+// The runs with the longest time limits start first (so that a long run does not start last and
+// leave the other jobs' cores idle); the reports keep the order of the inputs.
+TEST_F(CliTest, SuiteStartsTheLongestRunsFirst) {
+  WriteText("a.yaml", "name: a_short\ntime_limit_s: 2\nterrain: {kind: flat, size_m: [40, 20]}\nroute: [[0, 0], [6, 0]]\n");
+  WriteText("b.yaml", "name: b_long\ntime_limit_s: 3\nterrain: {kind: flat, size_m: [40, 20]}\nroute: [[0, 0], [6, 0]]\n");
+  const RunResult r = Run("suite " + Path("a.yaml") + " " + Path("b.yaml") + " --jobs 1 --out " + Path("suite"));
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  // One job at a time: the runs end in the order they started.
+  EXPECT_NE(r.err.find("[1/2] b_long seed 1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("[2/2] a_short seed 1"), std::string::npos) << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("suite/summary.json")));
+  ASSERT_EQ(summary["runs"].size(), 2u);
+  EXPECT_EQ(summary["runs"][0]["scenario"], "a_short");
+  EXPECT_EQ(summary["runs"][1]["scenario"], "b_long");
+}
+
 // A scenario family: `ovpc run` refuses it, `ovpc family` writes its draws, `ovpc suite` draws, runs
 // (one short draw) and judges it, and a malformed family is bad input with file and line.
 TEST_F(CliTest, FamiliesAreDrawnRunAndJudged) {
