@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""Test of scripts/compare-backends' report (--report-only) on made-up suite outputs: the tables hold
-only the seeds finished for every backend, count passes, times to goal and family expectations, and
-draw the roof-height figure. Exit code 0 when every check holds, 1 otherwise (each failure printed)."""
+"""Test of scripts/compare-backends with a stand-in for `ovpc suite` that writes made-up runs: a
+finished suite leaves a record, the report reads the records alone, the tables hold only the seeds
+finished for every backend, count passes, times to goal and family expectations, and draw the
+roof-height figure; a resume keeps the records and refuses another program or edited scenarios. Exit code 0 when every check holds, 1 otherwise (each failure printed)."""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -19,34 +21,58 @@ def check(condition, what):
         print("FAILED: " + what)
 
 
-def suite_run(scenario, passed, time_s):
+# A stand-in for `ovpc suite`: writes made-up runs for its --map and --first-seed into --out
+# (summary.json, and a cycles.csv per run), or stops without a summary, as a suite cut off part-way.
+FAKE_OVPC = r'''
+import json, os, sys
+a = sys.argv
+m, seed, out = a[a.index("--map") + 1], int(a[a.index("--first-seed") + 1]), a[a.index("--out") + 1]
+OUTCOMES = {  # (map, seed): (underpass passed, time [s], carport family passed, verdict, map update [ms])
+    ("ovpc", 1): (True, 25.0, True, "ok", 7.0), ("ovpc", 2): (False, 60.0, False, "violated", 8.0),
+    ("octomap", 1): (True, 27.0, True, "ok", 50.0), ("elevation", 1): (False, 60.0, True, "ok", 14.0)}
+if (m, seed) not in OUTCOMES:
+    sys.exit(1)
+suite_ok, t, fam_ok, verdict, map_ms = OUTCOMES[(m, seed)]
+runs = []
+for name, passed, time_s in (("underpass_2p5", suite_ok, t), ("carport_height_000", fam_ok, 30.0)):
+    run_dir = os.path.join(out, name)
+    os.makedirs(run_dir)
+    with open(os.path.join(run_dir, "cycles.csv"), "w") as f:
+        f.write("t,map_ms,plan_ms\n" + "".join(f"{0.2 * i:.1f},{map_ms + 0.001 * i},{2.0}\n" for i in range(10)))
     criteria = [{"name": "goal_reached", "passed": passed}]
-    return {"scenario": scenario, "passed": passed, "out": "/nonexistent",
-            "result": {"passed": passed, "sim_time_s": time_s, "criteria": criteria, "collision_steps": 0}}
+    runs.append({"scenario": name, "passed": passed, "out": run_dir,
+                 "result": {"passed": passed, "sim_time_s": time_s, "criteria": criteria, "collision_steps": 0}})
+runs[1]["family"] = {"family": "carport_height", "verdict": verdict, "values": {"roof_height_m": 2.5}}
+with open(os.path.join(out, "summary.json"), "w") as f:
+    json.dump({"runs": runs}, f)
+'''
 
 
-def family_run(roof_m, passed, verdict):
-    run = suite_run("carport_height_000", passed, 30.0)
-    run["family"] = {"family": "carport_height", "verdict": verdict, "values": {"roof_height_m": roof_m}}
-    return run
+def compare(*args):
+    return subprocess.run([sys.executable, SCRIPT, *args], capture_output=True, text=True)
 
 
-def write(out, m, seed, runs):
-    folder = os.path.join(out, m, f"seed_{seed}")
-    os.makedirs(folder)
-    with open(os.path.join(folder, "summary.json"), "w") as f:
-        json.dump({"runs": runs}, f)
-
-
-with tempfile.TemporaryDirectory() as out:
-    # Seed 1 finished for all three backends, seed 2 for ovpc only (a comparison stopped part-way).
-    write(out, "ovpc", 1, [suite_run("underpass_2p5", True, 25.0), family_run(2.5, True, "ok")])
-    write(out, "ovpc", 2, [suite_run("underpass_2p5", False, 60.0), family_run(2.5, False, "violated")])
-    write(out, "octomap", 1, [suite_run("underpass_2p5", True, 27.0), family_run(2.5, True, "ok")])
-    write(out, "elevation", 1, [suite_run("underpass_2p5", False, 60.0), family_run(2.5, True, "ok")])
-    proc = subprocess.run([sys.executable, SCRIPT, "--report-only", "--out", out], capture_output=True, text=True)
+with tempfile.TemporaryDirectory() as tmp:
+    fake = os.path.join(tmp, "ovpc")
+    with open(fake, "w") as f:
+        f.write("#!" + sys.executable + "\n" + FAKE_OVPC)
+    os.chmod(fake, 0o755)
+    scenario = os.path.join(tmp, "underpass_2p5.yaml")
+    with open(scenario, "w") as f:
+        f.write("name: underpass_2p5\n")
+    out, records = os.path.join(tmp, "out"), os.path.join(tmp, "records")
+    # Seeds 1-2; seed 2 finishes for ovpc only (a comparison stopped part-way).
+    proc = compare(scenario, "--ovpc", fake, "--seeds", "2", "--out", out, "--records", records)
     check(proc.returncode == 0, f"exit code 0, got {proc.returncode}: {proc.stderr}")
-    with open(os.path.join(out, "comparison.json")) as f:
+    check(sorted(os.listdir(os.path.join(records, "ovpc"))) == ["seed_1.json.gz", "seed_2.json.gz"],
+          f"a record per finished suite, got {os.listdir(os.path.join(records, 'ovpc'))}")
+    check(not os.path.exists(os.path.join(records, "octomap", "seed_2.json.gz")), "no record of an unfinished suite")
+
+    # The report needs only the records: the suites' outputs are gone.
+    shutil.rmtree(out)
+    proc = compare("--report-only", "--out", out, "--records", records)
+    check(proc.returncode == 0, f"report from the records: exit code 0, got {proc.returncode}: {proc.stderr}")
+    with open(os.path.join(records, "comparison.json")) as f:
         data = json.load(f)
     check(data["seeds"] == [1], f"seeds [1] (seed 2 is not finished for every backend), got {data['seeds']}")
     scenes = data["suite_scenarios"]["underpass_2p5"]
@@ -55,18 +81,35 @@ with tempfile.TemporaryDirectory() as out:
     check(abs(scenes["octomap"]["mean_time_to_goal_s"] - 27.0) < 1e-9, f"octomap 27 s to goal, got {scenes['octomap']}")
     family = data["groups"]["carport_height"]["ovpc"]
     check(family["expectation_held"] == 1 and family["expectation_counted"] == 1, f"ovpc family 1/1 held, got {family}")
-    with open(os.path.join(out, "comparison.md")) as f:
+    octomap = data["groups"]["suite"]["octomap"]
+    check(octomap["map_cycles"] == 10 and abs(octomap["map_update_median_ms"] - 50.0) < 0.02,
+          f"the map cycles' times come from the record, got {octomap}")
+    with open(os.path.join(records, "comparison.md")) as f:
         text = f.read()
     check("left out, finished for some backends only: 2" in text, "the left-out seed is named in comparison.md")
-    check(os.path.exists(os.path.join(out, "pass_rate_roof_height.svg")), "the roof-height figure is written")
+    check(os.path.exists(os.path.join(records, "pass_rate_roof_height.svg")), "the roof-height figure is written")
 
-    # Another program resuming into the same folder is refused before any run (exit code 2).
-    with open(os.path.join(out, "manifest.json"), "w") as f:
-        json.dump({"ovpc_sha256": "0" * 64}, f)
-    proc = subprocess.run([sys.executable, SCRIPT, "--out", out, "--ovpc", sys.executable, "--seeds", "1"],
-                          capture_output=True, text=True)
-    check(proc.returncode == 2 and "manifest.json" in proc.stderr,
+    # A resume with the same program keeps the records and runs nothing new for them.
+    proc = compare(scenario, "--ovpc", fake, "--seeds", "1", "--out", out, "--records", records)
+    check(proc.returncode == 0 and proc.stdout.count("done before, kept") == 3,
+          f"a resume keeps the three records of seed 1, got {proc.returncode}: {proc.stdout} {proc.stderr}")
+    check(not os.path.exists(os.path.join(out, "ovpc", "seed_1")), "a kept record's suite is not run again")
+
+    # Another program, or an edited scenario file, resuming into the same records is refused before
+    # any run (exit code 2).
+    other = os.path.join(tmp, "ovpc2")
+    shutil.copy(fake, other)
+    with open(other, "a") as f:
+        f.write("# another program\n")
+    proc = compare(scenario, "--ovpc", other, "--seeds", "3", "--out", out, "--records", records)
+    check(proc.returncode == 2 and "manifest.json" in proc.stderr and "ovpc_sha256" in proc.stderr,
           f"a resume with another program is refused with exit code 2, got {proc.returncode}: {proc.stderr}")
+    with open(scenario, "a") as f:
+        f.write("# edited\n")
+    proc = compare(scenario, "--ovpc", fake, "--seeds", "3", "--out", out, "--records", records)
+    check(proc.returncode == 2 and "input_sha256" in proc.stderr,
+          f"a resume on edited scenario files is refused with exit code 2, got {proc.returncode}: {proc.stderr}")
+    check(not os.path.exists(os.path.join(records, "ovpc", "seed_3.json.gz")), "nothing run after a refusal")
 
 print("compare_backends_test: " + ("all checks hold" if not failures else f"{len(failures)} failed"))
 sys.exit(1 if failures else 0)
