@@ -16,6 +16,7 @@ namespace {
 
 using internal::Clock;
 using internal::MsSince;
+using internal::ThreadCpuMs;
 using planner::Pose2;
 
 // The tick after `due_s` (which is at or before `time_s`): one period on, or, for a caller that fell
@@ -362,6 +363,7 @@ void Navigator::MapCycle(Job* job) {
   const Eigen::Isometry3d& T_O_B = job->T_O_B;
   record.time_s = time_s;
   auto t = Clock::now();
+  double cpu = ThreadCpuMs();
   PointCloudBuffer::LocalCloud cloud = buffer_.Build();
   const MapPreparation::Config& prep = config_.preparation;
   DropIsolatedPoints(prep.isolated_point_radius_m, prep.isolated_point_reach_m, &cloud.points_L);
@@ -377,6 +379,7 @@ void Navigator::MapCycle(Job* job) {
     AddFootprintPrior(cloud.T_O_L.inverse() * T_O_B, footprint, prep, &cloud.points_L);
   }
   record.prepare_ms = MsSince(t);
+  record.prepare_cpu_ms = ThreadCpuMs() - cpu;
   record.cloud_points = cloud.points_L.size();
 
   Cycle c;
@@ -395,8 +398,10 @@ void Navigator::MapCycle(Job* job) {
     context.known_support.half_width_m = 0.5 * box.width_m + grow;
   }
   t = Clock::now();
+  cpu = ThreadCpuMs();
   std::shared_ptr<const planner::PlanningMap> map = backend_->Update(cloud.points_L, context);
   record.map_ms = MsSince(t);
+  record.map_cpu_ms = ThreadCpuMs() - cpu;
   job->map_stages = backend_->StageTimes();
   if (!map) return;
   record.map_ok = true;
@@ -408,6 +413,7 @@ void Navigator::MapCycle(Job* job) {
 
   PlanState& state = job->state;
   t = Clock::now();
+  cpu = ThreadCpuMs();
   std::size_t closest = 0, blocked_index = 0;
   const bool blocked = PathBlocked(*job, c, &closest, &blocked_index);
   planner::ReplanInputs in;
@@ -437,6 +443,7 @@ void Navigator::MapCycle(Job* job) {
     if (!found && blocked) KeepValidPrefix(&state, closest, blocked_index);
   }
   record.plan_ms = MsSince(t);
+  record.plan_cpu_ms = ThreadCpuMs() - cpu;
 }
 
 bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest_out, std::size_t* blocked_index) const {

@@ -181,10 +181,12 @@ void WriteTrajectoryCsv(const RunResult& r, const std::string& path) {
 void WriteCyclesCsv(const RunResult& r, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot open for writing");
-  out << "time_s,cloud_points,map_ok,trigger,outcome,prepare_ms,map_ms,plan_ms\n" << std::setprecision(9);
+  out << "time_s,cloud_points,map_ok,trigger,outcome,prepare_ms,map_ms,plan_ms,prepare_cpu_ms,map_cpu_ms,plan_cpu_ms\n"
+      << std::setprecision(9);
   for (const navigation::CycleRecord& c : r.cycles) {
     out << c.time_s << "," << c.cloud_points << "," << (c.map_ok ? 1 : 0) << "," << c.trigger << "," << c.outcome << ","
-        << c.prepare_ms << "," << c.map_ms << "," << c.plan_ms << "\n";
+        << c.prepare_ms << "," << c.map_ms << "," << c.plan_ms << "," << c.prepare_cpu_ms << "," << c.map_cpu_ms << ","
+        << c.plan_cpu_ms << "\n";
   }
   CloseChecked(out, path);
 }

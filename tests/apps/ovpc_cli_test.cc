@@ -255,7 +255,8 @@ TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
   EXPECT_EQ(result["config"]["navigator"]["planner"]["vehicle"]["edge_tolerance_m"], "inf");
   // One row per map-and-plan cycle: 5 per simulated second.
   const std::string cycles = ReadAll(Path("run/cycles.csv"));
-  EXPECT_EQ(cycles.rfind("time_s,cloud_points,map_ok,trigger,outcome,", 0), 0u) << cycles;
+  EXPECT_EQ(cycles.rfind("time_s,cloud_points,map_ok,trigger,outcome,prepare_ms,map_ms,plan_ms,prepare_cpu_ms,map_cpu_ms,"
+                         "plan_cpu_ms\n", 0), 0u) << cycles;
   EXPECT_NEAR(CountLines(cycles) - 1, 5.0 * result["sim_time_s"].get<double>(), 2.0);
 
   WriteText("broken.yaml", "navigator:\n  follower: {target_speed: 2}\n");

@@ -53,6 +53,14 @@ TEST(NavigatorTest, OneCycleMapsPlansAheadAndSetsOff) {
   EXPECT_TRUE(nav.cycles()[0].map_ok);
   EXPECT_EQ(nav.cycles()[0].trigger, "no path");
   EXPECT_EQ(nav.cycles()[0].outcome, "found");
+  // The stages' thread CPU time: spent (a mesh and a plan were made), and never more than the wall
+  // time of the same stage on the one thread that ran it (plus the clocks' granularity).
+  const CycleRecord& rec = nav.cycles()[0];
+  EXPECT_GT(rec.map_cpu_ms, 0.0);
+  EXPECT_GT(rec.plan_cpu_ms, 0.0);
+  EXPECT_LE(rec.prepare_cpu_ms, rec.prepare_ms + 0.1);
+  EXPECT_LE(rec.map_cpu_ms, rec.map_ms + 0.1);
+  EXPECT_LE(rec.plan_cpu_ms, rec.plan_ms + 0.1);
   ASSERT_NE(nav.map(), nullptr);
   EXPECT_TRUE(nav.has_path());
   ASSERT_TRUE(nav.goal_O().has_value());

@@ -75,6 +75,9 @@ struct CycleRecord {
   std::string trigger;               ///< planner::ReplanReasonName; "" when the map failed or nothing triggered
   std::string outcome;               ///< the last attempt's outcome, "" if no plan was made
   double prepare_ms = 0.0, map_ms = 0.0, plan_ms = 0.0;  ///< wall clock
+  /// CPU time of the thread that ran the cycle (the whole cycle runs on one thread): unlike the wall
+  /// clock it holds when other work shares the machine.
+  double prepare_cpu_ms = 0.0, map_cpu_ms = 0.0, plan_cpu_ms = 0.0;
 };
 
 /// Counters over a run.

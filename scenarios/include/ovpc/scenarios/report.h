@@ -17,7 +17,8 @@ void WriteResultJson(const Scenario& scenario, const RunResult& result, const st
 void WriteTrajectoryCsv(const RunResult& result, const std::string& path);
 /// cycles.csv: one row per map-and-plan cycle of the navigator: time, prepared points, whether a map
 /// was made, the re-planning trigger and the last plan's outcome ("" when none), wall-clock ms of
-/// the preparation, the map update and the planning.
+/// the preparation, the map update and the planning, then the same three as the CPU time of the
+/// thread that ran the cycle (which holds on a loaded machine).
 void WriteCyclesCsv(const RunResult& result, const std::string& path);
 /// One row per planner call: time, trigger, vehicle and local goal (world frame), outcome,
 /// iterations and how many sampled states each validity check rejected.
