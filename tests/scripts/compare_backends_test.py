@@ -27,6 +27,8 @@ FAKE_OVPC = r'''
 import json, os, sys
 a = sys.argv
 m, seed, out = a[a.index("--map") + 1], int(a[a.index("--first-seed") + 1]), a[a.index("--out") + 1]
+with open(os.path.join(os.path.dirname(os.path.abspath(a[0])), "calls.txt"), "a") as f:  # for the test
+    f.write(f"{m} {seed} {a[a.index('--seed') + 1]}\n")
 OUTCOMES = {  # (map, seed): (underpass passed, time [s], carport family passed, verdict, map update [ms])
     ("ovpc", 1): (True, 25.0, True, "ok", 7.0), ("ovpc", 2): (False, 60.0, False, "violated", 8.0),
     ("octomap", 1): (True, 27.0, True, "ok", 50.0), ("elevation", 1): (False, 60.0, True, "ok", 14.0)}
@@ -68,6 +70,10 @@ with tempfile.TemporaryDirectory() as tmp:
     check(sorted(os.listdir(os.path.join(records, "ovpc"))) == ["seed_1.json.gz", "seed_2.json.gz"],
           f"a record per finished suite, got {os.listdir(os.path.join(records, 'ovpc'))}")
     check(not os.path.exists(os.path.join(records, "octomap", "seed_2.json.gz")), "no record of an unfinished suite")
+    with open(os.path.join(tmp, "calls.txt")) as f:
+        calls = sorted(f.read().split("\n")[:-1])
+    check(calls == ["elevation 1 1", "elevation 2 2", "octomap 1 1", "octomap 2 2", "ovpc 1 1", "ovpc 2 2"],
+          f"one suite per backend and seed, each family drawn from its run seed, got {calls}")
 
     # The report needs only the records: the suites' outputs are gone.
     shutil.rmtree(out)
@@ -96,6 +102,16 @@ with tempfile.TemporaryDirectory() as tmp:
     check(proc.returncode == 0 and proc.stdout.count("done before, kept") == 3,
           f"a resume keeps the three records of seed 1, got {proc.returncode}: {proc.stdout} {proc.stderr}")
     check(not os.path.exists(os.path.join(out, "ovpc", "seed_1")), "a kept record's suite is not run again")
+
+    # --family-seed N: the same draws on every seed (and another setting than the records', refused).
+    fixed = os.path.join(tmp, "fixed")
+    os.remove(os.path.join(tmp, "calls.txt"))
+    proc = compare(scenario, "--ovpc", fake, "--seeds", "2", "--family-seed", "7", "--out", fixed, "--maps", "ovpc")
+    with open(os.path.join(tmp, "calls.txt")) as f:
+        calls = sorted(f.read().split("\n")[:-1])
+    check(proc.returncode == 0 and calls == ["ovpc 1 7", "ovpc 2 7"], f"--family-seed 7 on every seed, got {calls}")
+    proc = compare(scenario, "--ovpc", fake, "--seeds", "1", "--family-seed", "7", "--out", out, "--records", records)
+    check(proc.returncode == 2 and "family_seed" in proc.stderr, f"a resume with other draws is refused, got {proc.stderr}")
 
     # Another program, or an edited scenario file, resuming into the same records is refused before
     # any run (exit code 2).
