@@ -45,7 +45,13 @@ for name, passed, time_s in (("underpass_2p5", suite_ok, t), ("carport_height_00
     criteria = [{"name": "goal_reached", "passed": passed}]
     runs.append({"scenario": name, "passed": passed, "out": run_dir,
                  "result": {"passed": passed, "sim_time_s": time_s, "criteria": criteria, "collision_steps": 0}})
-runs[1]["family"] = {"family": "carport_height", "verdict": verdict, "values": {"roof_height_m": 2.5}}
+runs[1]["family"] = {"family": "carport_height", "verdict": verdict,
+                    "values": {"roof_height_m": 2.5, "offset_m": 0.5, "yaw_deg": 10.0}}
+# The carport run's path: straight under the roof (x 0 to 24 along y = 0), or round it for the
+# elevation map (y = 4, clear of the 4.5 m wide roof centred on y = 0.5).
+with open(os.path.join(runs[1]["out"], "trajectory.csv"), "w") as f:
+    y = 4.0 if m == "elevation" else 0.0
+    f.write("time_s,true_x_m,true_y_m\n" + "".join(f"{0.1 * i:.3f},{0.024 * i},{y}\n" for i in range(1001)))
 with open(os.path.join(out, "summary.json"), "w") as f:
     json.dump({"runs": runs}, f)
 '''
@@ -92,6 +98,10 @@ with tempfile.TemporaryDirectory() as tmp:
     check(octomap["map_cycles"] == 10 and abs(octomap["map_update_median_ms"] - 50.0) < 0.02
           and octomap["planning_p99_ms"] == 1.5 and octomap["clock"] == "thread CPU",
           f"the map cycles' thread CPU times come from the record, got {octomap}")
+    by_roof = [b for b in data["carport_height_by_roof"] if b["roof_height_m"][0] <= 2.5 < b["roof_height_m"][1]]
+    check(len(by_roof) == 1 and by_roof[0]["ovpc"]["under"] == 1 and by_roof[0]["octomap"]["under"] == 1
+          and by_roof[0]["elevation"]["under"] == 0 and by_roof[0]["elevation"]["passed"] == 1,
+          f"under the roof: ovpc and octomap yes, the elevation map round it, got {by_roof}")
     with open(os.path.join(records, "comparison.md")) as f:
         text = f.read()
     check("left out, finished for some backends only: 2" in text, "the left-out seed is named in comparison.md")
