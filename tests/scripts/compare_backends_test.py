@@ -3,6 +3,7 @@
 finished suite leaves a record, the report reads the records alone, the tables hold only the seeds
 finished for every backend, count passes, times to goal and family expectations, and draw the
 roof-height figure; a resume keeps the records and refuses another program or edited scenarios. Exit code 0 when every check holds, 1 otherwise (each failure printed)."""
+import gzip
 import json
 import os
 import shutil
@@ -106,6 +107,25 @@ with tempfile.TemporaryDirectory() as tmp:
         text = f.read()
     check("left out, finished for some backends only: 2" in text, "the left-out seed is named in comparison.md")
     check(os.path.exists(os.path.join(records, "pass_rate_roof_height.svg")), "the roof-height figure is written")
+
+    # A record without the path (an older compare-backends): its runs are not counted as "not under".
+    # Seed 2 here: seed 1's records again, ovpc's without the path.
+    pathless = os.path.join(tmp, "pathless")
+    shutil.copytree(records, pathless)
+    for m in ("ovpc", "octomap", "elevation"):
+        with gzip.open(os.path.join(pathless, m, "seed_1.json.gz")) as f:
+            data = json.load(f)
+        data["seed"] = 2
+        if m == "ovpc":
+            for run in data["runs"]:
+                run.pop("path_xy", None)
+        with gzip.open(os.path.join(pathless, m, "seed_2.json.gz"), "wt") as f:
+            json.dump(data, f)
+    proc = compare("--report-only", "--records", pathless)
+    with open(os.path.join(pathless, "comparison.md")) as f:
+        text = f.read()
+    check(proc.returncode == 0 and "| 2, 1 of 1 with a path / 2 | 2, 2 / 2 | 2, 0 / 2 |" in text,
+          f"runs without a path are not counted as 'not under', got {proc.stderr} {text}")
 
     # A resume with the same program keeps the records and runs nothing new for them.
     proc = compare(scenario, "--ovpc", fake, "--seeds", "1", "--out", out, "--records", records)
