@@ -45,7 +45,8 @@ for name, passed, time_s in (("underpass_2p5", suite_ok, t), ("carport_height_00
                 "".join(f"{0.2 * i:.1f},{3 * map_ms},{2.0},{map_ms + 0.001 * i},{1.5}\n" for i in range(10)))
     criteria = [{"name": "goal_reached", "passed": passed}]
     runs.append({"scenario": name, "passed": passed, "out": run_dir,
-                 "result": {"passed": passed, "sim_time_s": time_s, "criteria": criteria, "collision_steps": 0}})
+                 "result": {"passed": passed, "sim_time_s": time_s, "criteria": criteria, "collision_steps": 0,
+                            "diagnosis": {"verdict": "arrived" if passed else "stalled"}}})
 runs[1]["family"] = {"family": "carport_height", "verdict": verdict,
                     "values": {"roof_height_m": 2.5, "offset_m": 0.5, "yaw_deg": 10.0}}
 # The carport run's path: straight under the roof (x 0 to 24 along y = 0), or round it for the
@@ -99,6 +100,8 @@ with tempfile.TemporaryDirectory() as tmp:
     check(octomap["map_cycles"] == 10 and abs(octomap["map_update_median_ms"] - 50.0) < 0.02
           and octomap["planning_p99_ms"] == 1.5 and octomap["clock"] == "thread CPU",
           f"the map cycles' thread CPU times come from the record, got {octomap}")
+    check(data["failed_as"]["suite"]["elevation"] == {"stalled": 1} and data["failed_as"]["suite"]["ovpc"] == {},
+          f"failed runs by their diagnosis: the elevation map's underpass run stalled, got {data['failed_as']}")
     by_roof = [b for b in data["carport_height_by_roof"] if b["roof_height_m"][0] <= 2.5 < b["roof_height_m"][1]]
     check(len(by_roof) == 1 and by_roof[0]["ovpc"]["under"] == 1 and by_roof[0]["octomap"]["under"] == 1
           and by_roof[0]["elevation"]["under"] == 0 and by_roof[0]["elevation"]["passed"] == 1,
