@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Test of scripts/compare-backends with a stand-in for `ovpc suite` that writes made-up runs: a
 finished suite leaves a record, the report reads the records alone, the tables hold only the seeds
-finished for every backend, count passes, times to goal and family expectations, and draw the
+finished for every backend, count passes, times to goal, family expectations and failures by their
+diagnosis, count runs under the roof from the paths (a record without them: unknown), and draw the
 roof-height figure; a resume keeps the records and refuses another program or edited scenarios. Exit code 0 when every check holds, 1 otherwise (each failure printed)."""
 import gzip
 import json
