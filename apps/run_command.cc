@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "output_folder.h"
 #include "ovpc/scenarios/closed_loop.h"
 #include "ovpc/scenarios/report.h"
 #include "ovpc/scenarios/scenario_yaml.h"
@@ -40,7 +41,7 @@ Runner RegisterRun(CLI::App& app) {
                   "Override a scenario value: dotted.key=value (repeatable), e.g. navigator.ovpc.mapper.ghpr.gamma=-0.02");
   cmd->add_option("--preset", o->preset,
                   "The robot's configuration to start from (default: the built-in navigation/presets/default.yaml)");
-  cmd->add_option("--map", o->map,
+  CLI::Option* map_opt = cmd->add_option("--map", o->map,
                   "The map backend: ovpc, octomap or elevation (sets navigator.map after every --set; default: the "
                   "configuration's, ovpc)");
   cmd->add_flag("--print-config", o->print_config,
@@ -53,9 +54,9 @@ Runner RegisterRun(CLI::App& app) {
                   "with 1 or 2")
       ->check(CLI::Range(1, 2))
       ->capture_default_str();
-  return [o]() {
+  return [o, map_opt]() {
     std::vector<std::string> settings = o->settings;
-    if (!o->map.empty()) settings.push_back(MapSetting(o->map));
+    if (map_opt->count() > 0) settings.push_back(MapSetting(o->map));
     scenarios::Scenario scenario;
     try {
       const scenarios::Preset preset = o->preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o->preset);
@@ -73,7 +74,8 @@ Runner RegisterRun(CLI::App& app) {
     options.frames = o->frames;
     options.progress = !o->quiet;
     options.threads = o->threads;
-    std::filesystem::create_directories(o->out);
+    // The folder is made, writable and ours alone before the simulation starts.
+    const output::FolderLock lock(o->out);
     const std::filesystem::path dir(o->out);
     // result.json marks a complete run: gone while the run goes on, written last by a rename.
     std::filesystem::remove(dir / "result.json");

@@ -67,7 +67,8 @@ struct Report {
 
 /// The summary table, the per-seed and sweep tables, the families' pass-rate tables (and their
 /// files: OUT/<family>/pass_rate.csv, runs.csv, pass_rate_<parameter>.svg), junit.xml and
-/// summary.json. Returns the number of runs that passed.
+/// summary.json, each written whole or not at all. Returns the number of runs that passed.
+/// @throws std::runtime_error naming the first file that could not be written whole.
 std::size_t WriteReport(const Report& report);
 
 }  // namespace ovpc::apps::suite

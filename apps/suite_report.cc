@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ovpc/scenarios/pass_rate.h"
+#include "output_folder.h"
 #include "suite.h"
 
 namespace ovpc::apps::suite {
@@ -16,15 +17,25 @@ namespace {
 namespace fs = std::filesystem;
 using scenarios::Verdict;
 
+// Text for XML: the five special characters as entities, and the control characters XML 1.0
+// cannot hold (all below 0x20 but tab, line feed and carriage return) as "\xNN".
 std::string XmlEscape(const std::string& text) {
   std::string out;
   for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
     switch (c) {
       case '&': out += "&amp;"; break;
       case '<': out += "&lt;"; break;
       case '>': out += "&gt;"; break;
       case '"': out += "&quot;"; break;
-      default: out += c;
+      default:
+        if ((u < 0x20 && c != '\t' && c != '\n' && c != '\r') || u == 0x7f) {
+          char hex[8];
+          std::snprintf(hex, sizeof(hex), "\\x%02X", u);
+          out += hex;
+        } else {
+          out += c;
+        }
     }
   }
   return out;
@@ -132,23 +143,21 @@ void PrintSweeps(const Report& rep) {
   }
 }
 
-void WriteFile(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) std::fprintf(stderr, "ovpc suite: cannot write %s\n", path.string().c_str());
-}
+// Whole or not at all; a failure ends the report with exit 1 naming the file.
+void WriteFile(const fs::path& path, const std::string& text) { output::WriteFileAtomic(path, text); }
 
 std::string RunsCsv(const Report& rep, std::size_t f) {
   std::string csv = "draw,seed,settings,expectation,verdict,scenario_file,out";
-  for (const scenarios::Parameter& p : rep.families[f].family.parameters) csv += "," + p.name;
+  for (const scenarios::Parameter& p : rep.families[f].family.parameters) csv += "," + output::CsvField(p.name);
   csv += "\n";
   for (const Job& job : rep.jobs) {
     if (!job.draw || job.draw->family != f) continue;
     const scenarios::Draw& d = DrawOf(rep.families, job);
-    csv += std::to_string(d.index) + "," + std::to_string(job.seed) + "," + SettingsLabel(job.settings) + "," +
+    using output::CsvField;
+    csv += std::to_string(d.index) + "," + std::to_string(job.seed) + "," + CsvField(SettingsLabel(job.settings)) + "," +
            scenarios::ExpectationName(d.expectation) + "," + scenarios::VerdictName(job.draw->verdict) + "," +
-           DrawFile(rep.families, job) + "," + job.out_dir;
-    for (const auto& [name, v] : d.values) csv += "," + v.ToString();
+           CsvField(DrawFile(rep.families, job)) + "," + CsvField(job.out_dir);
+    for (const auto& [name, v] : d.values) csv += "," + CsvField(v.ToString());
     csv += "\n";
   }
   return csv;
@@ -237,11 +246,12 @@ void WriteJunit(const Report& rep, std::size_t passed) {
           << "\" time=\"" << wall << "\">\n"
           << CaseOutcome(rep, job) << "    </testcase>\n";
   }
-  std::ofstream junit(fs::path(rep.out) / "junit.xml");
+  std::ostringstream junit;
   junit << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"ovpc scenarios\" tests=\""
         << rep.jobs.size() << "\" failures=\"" << rep.jobs.size() - passed - errors << "\" errors=\"" << errors
         << "\" skipped=\"" << skipped << "\" time=\"" << total_wall << "\">\n"
         << cases.str() << "  </testsuite>\n</testsuites>\n";
+  WriteFile(fs::path(rep.out) / "junit.xml", junit.str());
 }
 
 void WriteSummary(const Report& rep, std::size_t passed) {
@@ -260,7 +270,8 @@ void WriteSummary(const Report& rep, std::size_t passed) {
   }
   nlohmann::json summary = {{"runs", runs}, {"passed", passed}, {"errors", errors}, {"total", rep.jobs.size()}};
   if (!rep.families.empty()) summary["families"] = families;
-  std::ofstream(fs::path(rep.out) / "summary.json") << summary.dump(2) << "\n";
+  // Names are any bytes a file held: invalid UTF-8 is replaced, not thrown on.
+  WriteFile(fs::path(rep.out) / "summary.json", summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace

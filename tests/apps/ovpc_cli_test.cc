@@ -8,7 +8,11 @@
 #include <sstream>
 #include <string>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -229,9 +233,14 @@ TEST_F(CliTest, SuiteRunsTheSweepAndSeedsAndWritesJUnitAndSummary) {
   EXPECT_NE(r.out.find("  2/2 "), std::string::npos) << r.out;
   EXPECT_NE(summary.dump().find("\"seed\":5"), std::string::npos);
 
-  const RunResult late = Run("suite " + Path("short.yaml") + " --sweep criteria.max_time_s=1 --out " + Path("late"));
-  EXPECT_EQ(late.exit_code, 1) << late.out << late.err;
-  EXPECT_NE(late.out.find("0 of 1 runs passed"), std::string::npos) << late.out;
+  // A bad value in the first combination is an error of that combination; the others still run.
+  const RunResult late = Run("suite " + Path("short.yaml") + " --sweep criteria.max_time_s=soon,1 --out " + Path("late"));
+  EXPECT_EQ(late.exit_code, 2) << late.out << late.err;
+  EXPECT_NE(late.out.find("0 of 2 runs passed"), std::string::npos) << late.out;
+  const nlohmann::json late_summary = nlohmann::json::parse(ReadAll(Path("late/summary.json")));
+  EXPECT_EQ(late_summary["errors"], 1);
+  EXPECT_EQ(late_summary["runs"][0]["settings"][0], "criteria.max_time_s=soon");
+  EXPECT_EQ(late_summary["runs"][1]["result"]["passed"], false) << "the run with max_time_s=1 ran and failed";
   EXPECT_EQ(Run("suite " + Path("short.yaml") + " --first-seed -1").exit_code, 2);
 }
 
@@ -423,25 +432,27 @@ TEST_F(CliTest, FamiliesAreDrawnRunAndJudged) {
   }
   EXPECT_EQ(CountLines(ReadAll(Path("drawn/short_family/draws.csv"))), 4);
 
-  const RunResult suite = Run("suite " + Path("family.yaml") + " --samples 1 --seed 5 --out " + Path("suite"));
+  const RunResult suite = Run("suite " + Path("family.yaml") + " --samples 1 --seed 5 --out " + Path("su,ite"));
   ASSERT_EQ(suite.exit_code, 0) << suite.out << suite.err;
-  const std::string draw_file = Path("suite/short_family/draw_000/scenario.yaml");
+  const std::string draw_file = Path("su,ite/short_family/draw_000/scenario.yaml");
   EXPECT_EQ(ReadAll(draw_file), ReadAll(Path("drawn/short_family/draw_000/scenario.yaml"))) << "the same draw either way";
   EXPECT_NE(suite.out.find("pass: ok"), std::string::npos) << suite.out;
   EXPECT_NE(suite.out.find("short_family: pass rate against post_y (uniform, 5 bins)"), std::string::npos) << suite.out;
-  const nlohmann::json result = nlohmann::json::parse(ReadAll(Path("suite/short_family/draw_000/seed_1/result.json")));
+  const nlohmann::json result = nlohmann::json::parse(ReadAll(Path("su,ite/short_family/draw_000/seed_1/result.json")));
   EXPECT_EQ(result["extra"]["expectation"], "pass");
   EXPECT_EQ(result["extra"]["verdict"], "ok");
   EXPECT_EQ(result["extra"]["values"]["goal_x"], 6.0);
   EXPECT_EQ(result["extra"]["scenario_file"], draw_file);
-  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("suite/summary.json")));
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("su,ite/summary.json")));
   EXPECT_EQ(summary["runs"][0]["family"]["family"], "short_family");
   EXPECT_EQ(summary["families"][0]["draws"], 1);
-  const std::string junit = ReadAll(Path("suite/junit.xml"));
+  const std::string junit = ReadAll(Path("su,ite/junit.xml"));
   EXPECT_NE(junit.find("classname=\"short_family\" name=\"draw_000 seed=1 goal_x=6 post_y="), std::string::npos) << junit;
-  EXPECT_NE(ReadAll(Path("suite/short_family/pass_rate.csv")).find("goal_x,6,6,6,1,1,0,0,0"), std::string::npos);
-  EXPECT_TRUE(fs::exists(Path("suite/short_family/pass_rate_post_y.svg")));
-  EXPECT_TRUE(fs::exists(Path("suite/short_family/runs.csv")));
+  EXPECT_NE(ReadAll(Path("su,ite/short_family/pass_rate.csv")).find("goal_x,6,6,6,1,1,0,0,0"), std::string::npos);
+  EXPECT_TRUE(fs::exists(Path("su,ite/short_family/pass_rate_post_y.svg")));
+  // A comma in a path is quoted in runs.csv: the columns stay in place.
+  const std::string runs_csv = ReadAll(Path("su,ite/short_family/runs.csv"));
+  EXPECT_NE(runs_csv.find(",\"" + draw_file + "\","), std::string::npos) << runs_csv;
 
   WriteText("bad.yaml", family.replace(family.find("{grid: [6]}"), 11, "{uniform: [6, 3]}"));
   const RunResult bad = Run("family " + Path("bad.yaml"));
@@ -450,6 +461,166 @@ TEST_F(CliTest, FamiliesAreDrawnRunAndJudged) {
   const RunResult bad_suite = Run("suite " + Path("bad.yaml") + " --out " + Path("bad_suite"));
   EXPECT_EQ(bad_suite.exit_code, 2);
   EXPECT_NE(bad_suite.out.find("bad.yaml:10:"), std::string::npos) << bad_suite.out;
+}
+
+// A name is a name: a family called ".." or "." or an absolute path, or a scenario named like a
+// path, is refused with exit 2, and nothing outside --out is made or removed.
+TEST_F(CliTest, NamesThatArePathsAreRefusedAndNothingOutsideOutIsTouched) {
+  fs::create_directories(Path("work/keep"));
+  WriteText("work/keep/notes.txt", "mine\n");
+  std::string family = testing::kShortFlatScenario;
+  family += "parameters:\n  post_y: {uniform: [4, 6]}\nexpect:\n  - {then: any, reason: any}\n";
+  for (const std::string& name : std::vector<std::string>{"..", ".", "/tmp/ovpc_abs_family_" + std::to_string(::getpid())}) {
+    std::string text = family;
+    text.replace(text.find("name: short_flat"), 16, "name: \"" + name + "\"");
+    WriteText("family.yaml", text);
+    for (const std::string& cmd : {std::string("family"), std::string("suite")}) {
+      const RunResult r = Run(cmd + " " + Path("family.yaml") + " --samples 1 --out " + Path("work/out"));
+      EXPECT_EQ(r.exit_code, 2) << cmd << " name " << name << ": " << r.out << r.err;
+      EXPECT_EQ(ReadAll(Path("work/keep/notes.txt")), "mine\n") << cmd << " name " << name;
+    }
+  }
+  EXPECT_FALSE(fs::exists("/tmp/ovpc_abs_family_" + std::to_string(::getpid())));
+  std::string scenario = testing::kShortFlatScenario;
+  scenario.replace(scenario.find("name: short_flat"), 16, "name: " + Path("work/keep"));
+  WriteText("abs.yaml", scenario);
+  const RunResult abs = Run("suite " + Path("abs.yaml") + " --out " + Path("work/out2"));
+  EXPECT_EQ(abs.exit_code, 2) << abs.out << abs.err;
+  EXPECT_EQ(fs::directory_iterator(Path("work/keep"))->path().filename(), "notes.txt");
+  EXPECT_FALSE(fs::exists(Path("work/keep/seed_1")));
+}
+
+// A folder under --out that ovpc did not make is never cleared: the command refuses.
+TEST_F(CliTest, AFolderNotMadeByOvpcIsNotCleared) {
+  std::string family = testing::kShortFlatScenario;
+  family.replace(family.find("name: short_flat"), 16, "name: fam");
+  family += "parameters:\n  post_y: {uniform: [4, 6]}\nexpect:\n  - {then: any, reason: any}\n";
+  WriteText("family.yaml", family);
+  fs::create_directories(Path("out/fam"));
+  WriteText("out/fam/thesis.tex", "years of work\n");
+  const RunResult r = Run("family " + Path("family.yaml") + " --samples 1 --out " + Path("out"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(CountLines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("did not write"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadAll(Path("out/fam/thesis.tex")), "years of work\n");
+  // A folder ovpc made is cleared and written again.
+  fs::remove_all(Path("out/fam"));
+  ASSERT_EQ(Run("family " + Path("family.yaml") + " --samples 1 --out " + Path("out")).exit_code, 0);
+  ASSERT_EQ(Run("family " + Path("family.yaml") + " --samples 1 --out " + Path("out")).exit_code, 0);
+  EXPECT_TRUE(fs::exists(Path("out/fam/draw_000/scenario.yaml")));
+}
+
+// Limits that cannot be met are refused at once with exit 2 and the count, before anything is
+// planned or written.
+TEST_F(CliTest, ImpossibleLimitsAreRefusedUpFront) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  const std::string suite = "suite " + Path("short.yaml") + " --out " + Path("out") + " ";
+  const RunResult seeds = Run(suite + "--seeds 1000000000");
+  EXPECT_EQ(seeds.exit_code, 2);
+  EXPECT_NE(seeds.err.find("--seeds must be 1-100000"), std::string::npos) << seeds.err;
+  std::string sweep = "--sweep navigator.latency_s=";
+  for (int i = 0; i < 1000; ++i) sweep += (i ? "," : "") + std::to_string(0.1 + i * 1e-4);
+  const RunResult combos = Run(suite + sweep + " " + sweep.substr(0, 8) + "navigator.follower.lookahead_gain_s=" + sweep.substr(28));
+  EXPECT_EQ(combos.exit_code, 2);
+  EXPECT_NE(combos.err.find("1000000 combinations"), std::string::npos) << combos.err;
+  const RunResult overflow = Run(suite + "--first-seed 2147483647 --seeds 2");
+  EXPECT_EQ(overflow.exit_code, 2);
+  EXPECT_NE(overflow.err.find("largest seed"), std::string::npos) << overflow.err;
+  const RunResult samples = Run(suite + "--samples -1");
+  EXPECT_EQ(samples.exit_code, 2) << samples.err;
+  EXPECT_EQ(Run("family " + Path("short.yaml") + " --samples -1 --out " + Path("out")).exit_code, 2);
+  EXPECT_EQ(Run(suite + "--map ''").exit_code, 2);
+  const RunResult run_map = Run("run " + Path("short.yaml") + " --map '' --out " + Path("run"));
+  EXPECT_EQ(run_map.exit_code, 2);
+  EXPECT_NE(run_map.err.find("--map must be"), std::string::npos) << run_map.err;
+  EXPECT_FALSE(fs::exists(Path("out"))) << "nothing written";
+  // An --out that cannot be made fails before the simulation, as bad input.
+  WriteText("file.txt", "x");
+  const RunResult unwritable = Run("run " + Path("short.yaml") + " --out " + Path("file.txt/sub"));
+  EXPECT_EQ(unwritable.exit_code, 2);
+  EXPECT_NE(unwritable.err.find("file.txt/sub"), std::string::npos) << unwritable.err;
+  // The same file twice would share its run folders.
+  const RunResult twice = Run("suite " + Path("short.yaml") + " " + dir_.string() + "/./short.yaml --out " + Path("out"));
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("given twice"), std::string::npos) << twice.err;
+}
+
+// One writer per folder: a second suite on a locked --out refuses with exit 2.
+TEST_F(CliTest, ASecondWriterOfAFolderIsRefused) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  fs::create_directories(Path("out"));
+  const int fd = ::open(Path("out/.ovpc-lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  const RunResult r = Run("suite " + Path("short.yaml") + " --out " + Path("out"));
+  ::close(fd);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(CountLines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("another ovpc process is writing to this folder"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(Path("out/short_flat")));
+}
+
+// SIGTERM and SIGINT stop the suite's runs (none is left running) and the suite still writes the
+// report of what finished, the rest as cancelled errors, and exits with 128 + the signal.
+TEST_F(CliTest, ASignalStopsTheRunsAndTheSuiteStillReports) {
+  std::string slow = testing::kShortFlatScenario;
+  slow.replace(slow.find("name: short_flat"), 16, "name: slow_flat");
+  slow.replace(slow.find("time_limit_s: 8"), 15, "time_limit_s: 300");
+  slow.replace(slow.find("[6, 0]]"), 7, "[15, 0], [15, 5], [0, 5], [0, 0]]");
+  WriteText("slow.yaml", slow);
+  for (const auto& [sig, name] : {std::pair<int, std::string>{SIGTERM, "SIGTERM"}, {SIGINT, "SIGINT"}}) {
+    const std::string out = Path("suite_" + name);
+    const std::string suite = std::string(OVPC_CLI_PATH) + " suite " + Path("slow.yaml") + " --seeds 3 --jobs 2 --out " + out;
+    const std::string script = suite + " >" + Path("out.txt") + " 2>" + Path("err.txt") + " & s=$!; " +
+                               "for i in $(seq 100); do pgrep -P $s >/dev/null && break; sleep 0.1; done; sleep 1; kill -" +
+                               name.substr(3) + " $s; wait $s; echo $? >" + Path("code.txt") +
+                               "; sleep 0.5; pgrep -f " + out + "/slow_fla[t] >" + Path("left.txt") + " || true";
+    ASSERT_EQ(std::system(("bash -c '" + script + "'").c_str()), 0);
+    EXPECT_EQ(std::stoi(ReadAll(Path("code.txt"))), 128 + sig) << ReadAll(Path("err.txt"));
+    EXPECT_EQ(ReadAll(Path("left.txt")), "") << "runs left running after " << name;
+    const nlohmann::json summary = nlohmann::json::parse(ReadAll(out + "/summary.json"));
+    EXPECT_EQ(summary["total"], 3);
+    EXPECT_EQ(summary["errors"], 3);
+    EXPECT_NE(summary["runs"][0]["error"].get<std::string>().find("cancelled: the suite got " + name), std::string::npos)
+        << summary.dump(2);
+    EXPECT_NE(ReadAll(out + "/junit.xml").find("errors=\"3\""), std::string::npos);
+  }
+}
+
+// Report files are whole or not there: on a full disk (a small tmpfs) or when a report's path is
+// a folder, the suite exits 1 naming the file, and an earlier complete file is kept.
+TEST_F(CliTest, AReportThatCannotBeWrittenIsAnErrorAndKeepsTheEarlierFile) {
+  WriteText("broken.yaml", "name: broken\ntime_limit_s: soon\nroute: [[0, 0], [1, 0]]\n");
+  fs::create_directories(Path("dir_out/summary.json"));
+  const RunResult folder = Run("suite " + Path("broken.yaml") + " --out " + Path("dir_out"));
+  EXPECT_EQ(folder.exit_code, 1) << folder.out << folder.err;
+  EXPECT_NE(folder.err.find(Path("dir_out/summary.json")), std::string::npos) << folder.err;
+  EXPECT_EQ(folder.out.find("wrote"), std::string::npos) << folder.out;
+
+  if (::geteuid() != 0) GTEST_SKIP() << "mounting a small tmpfs needs root";
+  const std::string mnt = Path("full");
+  fs::create_directories(mnt);
+  if (std::system(("mount -t tmpfs -o size=64k tmpfs " + mnt).c_str()) != 0) GTEST_SKIP() << "cannot mount a tmpfs";
+  ASSERT_EQ(Run("suite " + Path("broken.yaml") + " --out " + mnt).exit_code, 2) << "fits while there is room";
+  const std::string before = ReadAll(mnt + "/summary.json");
+  ASSERT_FALSE(before.empty());
+  std::system(("dd if=/dev/zero of=" + mnt + "/filler bs=1k count=1000 2>/dev/null").c_str());
+  const RunResult full = Run("suite " + Path("broken.yaml") + " --out " + mnt);
+  EXPECT_EQ(full.exit_code, 1) << full.out << full.err;
+  EXPECT_NE(full.err.find("could not write it whole"), std::string::npos) << full.err;
+  EXPECT_EQ(ReadAll(mnt + "/summary.json"), before) << "the complete file is kept";
+  EXPECT_FALSE(fs::exists(mnt + "/junit.xml.part"));
+  std::system(("umount " + mnt).c_str());
+}
+
+// Texts are escaped: a control character in an error stays out of junit.xml's bytes.
+TEST_F(CliTest, ReportsEscapeWhatTheyQuote) {
+  WriteText("ctrl.yaml", "name: ctrl\ntime_limit_s: 8\n\"bad\\x01key\": 1\nroute: [[0, 0], [1, 0]]\n");
+  const RunResult r = Run("suite " + Path("ctrl.yaml") + " --out " + Path("out"));
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  const std::string junit = ReadAll(Path("out/junit.xml"));
+  EXPECT_EQ(junit.find('\x01'), std::string::npos) << junit;
+  EXPECT_NE(junit.find("\\x01"), std::string::npos) << junit;
 }
 
 }  // namespace
