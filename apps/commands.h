@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "ovpc/suite/runner.h"
+
 namespace ovpc::apps {
 
 /// Exit codes shared by all subcommands.
@@ -23,14 +25,8 @@ class BadInput : public std::runtime_error {
 
 using Runner = std::function<int()>;
 
-/// `--map NAME` of `ovpc run` and `ovpc suite`: the setting it stands for
-/// ("navigator.map=NAME"), or BadInput naming the allowed names.
-inline std::string MapSetting(const std::string& name) {
-  if (name != "ovpc" && name != "octomap" && name != "elevation") {
-    throw BadInput("--map must be ovpc, octomap or elevation, got '" + name + "'");
-  }
-  return "navigator.map=" + name;
-}
+/// `--map NAME` of `ovpc run` and `ovpc suite`: "navigator.map=NAME", or bad input.
+using suite::MapSetting;
 
 Runner RegisterMesh(CLI::App& app);
 Runner RegisterSynth(CLI::App& app);

@@ -8,7 +8,7 @@
 
 #include "commands.h"
 #include "ovpc/scenarios/family.h"
-#include "output_folder.h"
+#include "ovpc/suite/output_folder.h"
 
 namespace ovpc::apps {
 namespace {
@@ -59,9 +59,9 @@ Runner RegisterFamily(CLI::App& app) {
       }
       std::string why;
       const std::string& name = drawn.back().first.name;
-      if (!output::IsSafeComponent(name, &why)) throw BadInput(file + ": the name '" + name.substr(0, 80) + "' " + why);
+      if (!suite::IsSafeComponent(name, &why)) throw BadInput(file + ": the name '" + name.substr(0, 80) + "' " + why);
     }
-    const output::FolderLock lock(o->out);
+    const suite::FolderLock lock(o->out);
     std::map<std::string, std::string> folders;  // folder -> the file that has it
     for (const auto& [family, draws] : drawn) {
       // Two families with one name get folders of their own, as in `ovpc suite`.
@@ -69,7 +69,7 @@ Runner RegisterFamily(CLI::App& app) {
       for (int k = 2; folders.count(folder); ++k) folder = family.name + "_" + std::to_string(k);
       folders[folder] = family.path;
       const std::filesystem::path dir = std::filesystem::path(o->out) / folder;
-      output::MakeFresh(dir);
+      suite::MakeFresh(dir);
       const std::vector<std::string> paths = scenarios::WriteDraws(family, draws, dir.string());
       PrintDraws(family, draws, paths, *o);
       std::printf("wrote %s/draws.csv\n", dir.string().c_str());

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "commands.h"
-#include "output_folder.h"
+#include "ovpc/suite/output_folder.h"
 #include "ovpc/scenarios/closed_loop.h"
 #include "ovpc/scenarios/report.h"
 #include "ovpc/scenarios/scenario_yaml.h"
@@ -75,7 +75,7 @@ Runner RegisterRun(CLI::App& app) {
     options.progress = !o->quiet;
     options.threads = o->threads;
     // The folder is made, writable and ours alone before the simulation starts.
-    const output::FolderLock lock(o->out);
+    const suite::FolderLock lock(o->out);
     const std::filesystem::path dir(o->out);
     // result.json marks a complete run: gone while the run goes on, written last by a rename.
     std::filesystem::remove(dir / "result.json");

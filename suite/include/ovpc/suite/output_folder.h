@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <string>
 
-namespace ovpc::apps::output {
+#include "ovpc/suite/errors.h"
+
+namespace ovpc::suite {
 
 /// The file that marks a folder as made by this program (it may be cleared by a later run).
 inline constexpr const char* kMarker = ".ovpc-output";
@@ -56,4 +58,4 @@ void WriteFileAtomic(const std::filesystem::path& path, const std::string& text)
 /// `text` as one CSV field (RFC 4180: quoted when it holds a comma, a quote or a line break).
 std::string CsvField(const std::string& text);
 
-}  // namespace ovpc::apps::output
+}  // namespace ovpc::suite

@@ -1,4 +1,4 @@
-#include "output_folder.h"
+#include "ovpc/suite/output_folder.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -11,9 +11,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "commands.h"
-
-namespace ovpc::apps::output {
+namespace ovpc::suite {
 namespace {
 
 namespace fs = std::filesystem;
@@ -154,4 +152,4 @@ std::string CsvField(const std::string& text) {
   return out + "\"";
 }
 
-}  // namespace ovpc::apps::output
+}  // namespace ovpc::suite

@@ -1,4 +1,4 @@
-// `ovpc suite`'s reports: the tables it prints, junit.xml, summary.json and the families' pass rates.
+// A suite's reports: the tables it prints, junit.xml, summary.json and the families' pass rates.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "ovpc/scenarios/pass_rate.h"
-#include "output_folder.h"
-#include "suite.h"
+#include "ovpc/suite/output_folder.h"
+#include "ovpc/suite/report.h"
 
-namespace ovpc::apps::suite {
+namespace ovpc::suite {
 namespace {
 
 namespace fs = std::filesystem;
@@ -144,16 +144,15 @@ void PrintSweeps(const Report& rep) {
 }
 
 // Whole or not at all; a failure ends the report with exit 1 naming the file.
-void WriteFile(const fs::path& path, const std::string& text) { output::WriteFileAtomic(path, text); }
+void WriteFile(const fs::path& path, const std::string& text) { WriteFileAtomic(path, text); }
 
 std::string RunsCsv(const Report& rep, std::size_t f) {
   std::string csv = "draw,seed,settings,expectation,verdict,scenario_file,out";
-  for (const scenarios::Parameter& p : rep.families[f].family.parameters) csv += "," + output::CsvField(p.name);
+  for (const scenarios::Parameter& p : rep.families[f].family.parameters) csv += "," + CsvField(p.name);
   csv += "\n";
   for (const Job& job : rep.jobs) {
     if (!job.draw || job.draw->family != f) continue;
     const scenarios::Draw& d = DrawOf(rep.families, job);
-    using output::CsvField;
     csv += std::to_string(d.index) + "," + std::to_string(job.seed) + "," + CsvField(SettingsLabel(job.settings)) + "," +
            scenarios::ExpectationName(d.expectation) + "," + scenarios::VerdictName(job.draw->verdict) + "," +
            CsvField(DrawFile(rep.families, job)) + "," + CsvField(job.out_dir);
@@ -323,4 +322,4 @@ std::size_t WriteReport(const Report& rep) {
   return passed;
 }
 
-}  // namespace ovpc::apps::suite
+}  // namespace ovpc::suite

@@ -1,5 +1,4 @@
-// `ovpc suite`'s runs and reports, shared by suite_command.cc (planning and running) and
-// suite_report.cc (tables, JUnit XML, summary.json, the families' pass rates).
+// A suite's runs and their reports: the tables, JUnit XML, summary.json and the families' pass rates.
 #pragma once
 
 #include <sys/types.h>
@@ -13,7 +12,7 @@
 
 #include "ovpc/scenarios/family.h"
 
-namespace ovpc::apps::suite {
+namespace ovpc::suite {
 
 /// A family given to the suite: its draws and where they were written.
 struct FamilyInput {
@@ -71,4 +70,4 @@ struct Report {
 /// @throws std::runtime_error naming the first file that could not be written whole.
 std::size_t WriteReport(const Report& report);
 
-}  // namespace ovpc::apps::suite
+}  // namespace ovpc::suite
