@@ -26,11 +26,7 @@ namespace {
 using NodePtr = std::shared_ptr<const Expression::Node>;
 using Kind = Expression::Node::Kind;
 
-// The text as messages quote it: whole when short, else its start (a message stays one short line).
-std::string Quoted(const std::string& text) {
-  constexpr std::size_t kShown = 60;
-  return "'" + (text.size() <= kShown + 20 ? text : text.substr(0, kShown) + "...") + "'";
-}
+std::string Quoted(const std::string& text) { return "'" + internal::Abbreviated(text) + "'"; }
 
 bool NameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool NameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; }

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <string>
 
+#include "format.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
 namespace ovpc::scenarios {
@@ -99,9 +100,8 @@ std::string NameProblem(const std::string& name, std::size_t max_bytes) {
 void ValidateName(const std::string& file, int line, const std::string& name, std::size_t max_bytes) {
   const std::string problem = NameProblem(name, max_bytes);
   if (problem.empty()) return;
-  constexpr std::size_t kShown = 60;
-  const std::string shown = name.size() <= kShown ? name : name.substr(0, kShown) + "...";
-  throw ScenarioError(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": name '" + shown + "' " + problem +
+  throw ScenarioError(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": name '" + internal::Abbreviated(name) +
+                      "' " + problem +
                       "; a name is 1 to " + std::to_string(max_bytes) +
                       " ASCII letters, digits, '_', '-' and '.', not starting with '.'");
 }
