@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -12,24 +13,37 @@ namespace {
 
 Eigen::Vector2d Position(const planner::PathPose& p) { return {p.pose.x_m, p.pose.y_m}; }
 
+// A value in a message: 1e+308, not its 309 digits.
+std::string Shown(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
 }  // namespace
 
 void PurePursuit::Config::Validate() const {
   const auto positive = [](double value, const char* field) {
     if (!(value > 0.0) || !std::isfinite(value)) {
-      throw std::invalid_argument(std::string("PurePursuit::Config: ") + field + " must be > 0, got " +
-                                  std::to_string(value));
+      throw std::invalid_argument(std::string("PurePursuit::Config: ") + field + " must be > 0, got " + Shown(value));
+    }
+  };
+  // Speeds far beyond any ground vehicle's are a typo (1e308), not a setting.
+  const auto speed = [](double value, const char* field) {
+    if (!(value > 0.0) || !(value <= kMaxSpeedMps)) {
+      throw std::invalid_argument(std::string("PurePursuit::Config: ") + field + " must be in (0, " + Shown(kMaxSpeedMps) +
+                                  "] m/s, got " + Shown(value));
     }
   };
   positive(wheelbase_m, "wheelbase_m");
-  positive(target_speed_mps, "target_speed_mps");
-  positive(reverse_speed_mps, "reverse_speed_mps");
-  positive(creep_speed_mps, "creep_speed_mps");
+  speed(target_speed_mps, "target_speed_mps");
+  speed(reverse_speed_mps, "reverse_speed_mps");
+  speed(creep_speed_mps, "creep_speed_mps");
   positive(lookahead_min_m, "lookahead_min_m");
   positive(max_lateral_accel_mps2, "max_lateral_accel_mps2");
   positive(stop_decel_mps2, "stop_decel_mps2");
   positive(stop_tolerance_m, "stop_tolerance_m");
-  positive(standstill_mps, "standstill_mps");
+  speed(standstill_mps, "standstill_mps");
   positive(presteer_tolerance_rad, "presteer_tolerance_rad");
   if (!(max_steering_rad > 0.0 && max_steering_rad < kPi / 2)) {
     throw std::invalid_argument("PurePursuit::Config: max_steering_rad must be in (0, pi/2)");

@@ -41,7 +41,8 @@ using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 // A point cloud file is a regular file of at most this many bytes (2 GiB: 130 million KITTI points).
 constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{2} << 30;
 
-std::string LoadFile(const std::string& path) {
+// The file's bytes, or its first `limit` bytes.
+std::string LoadFile(const std::string& path, std::uintmax_t limit = kMaxFileBytes) {
   // A FIFO or a device would block or never end: only regular files, read up to their size.
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
@@ -53,12 +54,13 @@ std::string LoadFile(const std::string& path) {
   errno = 0;
   FilePtr file(std::fopen(path.c_str(), "rb"));
   if (!file) Fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  const std::uintmax_t wanted = std::min(size, limit);
   std::string bytes;
-  bytes.reserve(static_cast<std::size_t>(size));
+  bytes.reserve(static_cast<std::size_t>(wanted));
   std::array<char, 1 << 16> chunk;
   std::size_t n = 0;
-  while (bytes.size() < size && (n = std::fread(chunk.data(), 1, chunk.size(), file.get())) > 0) {
-    bytes.append(chunk.data(), std::min<std::size_t>(n, static_cast<std::size_t>(size - bytes.size())));
+  while (bytes.size() < wanted && (n = std::fread(chunk.data(), 1, chunk.size(), file.get())) > 0) {
+    bytes.append(chunk.data(), std::min<std::size_t>(n, static_cast<std::size_t>(wanted - bytes.size())));
   }
   if (std::ferror(file.get())) {
     Fail(path, std::string("cannot read (") + std::strerror(errno) + ")");
@@ -66,19 +68,46 @@ std::string LoadFile(const std::string& path) {
   return bytes;
 }
 
-void SaveFile(const std::string& path, const std::string& bytes) {
+// Writes `bytes` to `file_path` as it is; "" or what failed ("cannot open for writing (...)").
+std::string WriteWhole(const std::string& file_path, const std::string& bytes) {
   errno = 0;
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (file == nullptr) {
-    Fail(path, std::string("cannot open for writing (") + std::strerror(errno) + ")");
-  }
+  std::FILE* file = std::fopen(file_path.c_str(), "wb");
+  if (file == nullptr) return std::string("cannot open for writing (") + std::strerror(errno) + ")";
   bool ok = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
   int error = errno;
   if (std::fclose(file) != 0 && ok) {
     ok = false;
     error = errno;
   }
-  if (!ok) Fail(path, std::string("write failed (") + std::strerror(error) + ")");
+  return ok ? "" : std::string("write failed (") + std::strerror(error) + ")";
+}
+
+// Writes to a temporary file beside the file (a symbolic link's target) and renames it: the file
+// is never left truncated (a full disk, an interrupted run), and an earlier complete one is
+// replaced only by a complete one. What is not a file to replace (a device, a FIFO) is written
+// in place.
+void SaveFile(const std::string& path, const std::string& bytes) {
+  std::error_code ec;
+  std::string target = path;
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(path, ec))) {
+    const std::filesystem::path resolved = std::filesystem::weakly_canonical(path, ec);
+    if (!ec) target = resolved.string();
+  }
+  const std::filesystem::file_status status = std::filesystem::status(target, ec);
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    const std::string failure = WriteWhole(target, bytes);
+    if (!failure.empty()) Fail(path, failure);
+    return;
+  }
+  const std::string partial = target + ".partial";
+  std::string failure = WriteWhole(partial, bytes);
+  if (failure.empty() && std::rename(partial.c_str(), target.c_str()) != 0) {
+    failure = std::string("write failed (") + std::strerror(errno) + ")";
+  }
+  if (!failure.empty()) {
+    std::remove(partial.c_str());
+    Fail(path, failure);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -658,7 +687,26 @@ Points ReadPcd(const std::string& path, const std::string& bytes) {
 // x, y, z, intensity; 5: nuScenes' x, y, z, intensity, ring). Read with the wrong layout, the
 // fields slide across records and coordinates land in the intensity and ring fields, so the file
 // is checked to look like a LiDAR scan: finite coordinates within 10 km, intensity >= 0, and (5
-// fields) a whole ring number in [0, 1024), for at least 99 % of the records.
+// fields) a whole ring number in [0, 1024), for at least 99 % of the records. A file of zeros (or
+// of one record repeated) is not a scan either: at most half of the records may be all zero bytes,
+// and two or more records must not all be the same. Both are checked on the bytes, before the
+// points are allocated.
+void CheckBinRecordsDiffer(const std::string& path, const std::string& bytes, std::size_t stride) {
+  const std::size_t records = bytes.size() / stride;
+  const std::string zero(stride, '\0');
+  std::size_t zeros = 0;
+  bool all_same = records >= 2;
+  for (std::size_t i = 0; i < records; ++i) {
+    const std::string_view record(bytes.data() + i * stride, stride);
+    zeros += record == zero;
+    all_same = all_same && record == std::string_view(bytes.data(), stride);
+  }
+  if (zeros > records / 2) {
+    Fail(path, std::to_string(zeros) + " of " + std::to_string(records) + " records are all zero bytes: not a LiDAR scan");
+  }
+  if (all_same) Fail(path, "all " + std::to_string(records) + " records are the same: not a LiDAR scan");
+}
+
 Points ReadBin(const std::string& path, const std::string& bytes, int fields) {
   const std::size_t stride = static_cast<std::size_t>(fields) * sizeof(float);
   const std::string layout = fields == 4 ? "KITTI: float32 x, y, z, intensity" : "nuScenes: float32 x, y, z, intensity, ring";
@@ -666,6 +714,7 @@ Points ReadBin(const std::string& path, const std::string& bytes, int fields) {
     Fail(path, "size " + std::to_string(bytes.size()) + " bytes is not a multiple of " + std::to_string(stride) + " (" +
                    layout + "; --bin-fields sets the layout)");
   }
+  CheckBinRecordsDiffer(path, bytes, stride);
   const ByteReader reader(bytes, /*big_endian=*/false);
   Points points(bytes.size() / stride);
   std::size_t implausible = 0;
@@ -764,6 +813,13 @@ Points ParseResolved(const std::string& bytes, CloudFormat format, const std::st
 
 Points ReadCloud(const std::string& path, CloudFormat format, int bin_fields) {
   format = ResolveFormat(path, format, bin_fields);
+  if (format == CloudFormat::kKittiBin) {
+    // A large file of zeros is refused on its first MiB, before the rest is read.
+    const std::size_t stride = static_cast<std::size_t>(bin_fields) * sizeof(float);
+    constexpr std::size_t kHead = std::size_t{1} << 20;  // a multiple of both strides
+    const std::string head = LoadFile(path, kHead);
+    if (head.size() == kHead) CheckBinRecordsDiffer(path, head, stride);
+  }
   return ParseResolved(LoadFile(path), format, path, bin_fields);
 }
 

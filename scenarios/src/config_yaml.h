@@ -2,7 +2,10 @@
 // visitors that walk the Config field lists (navigation/config_fields.h) to read and write them.
 #pragma once
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <initializer_list>
 #include <iomanip>
@@ -28,6 +31,50 @@ inline std::string Where(const std::string& file, const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
   if (mark.line < 0) return file + " (--set)";
   return file + ":" + std::to_string(mark.line + 1);
+}
+
+/// The node under `section` that a Validate() message names: its leading dotted key ("ramp.angle_deg
+/// must be ...", "TerrainConfig: ramp.angle_deg ...", "route[3] lies ..."), or the longest tail of
+/// that key found there ("World: boxes[0].length_m" finds `length_m`); nullopt when none is there.
+inline std::optional<YAML::Node> NodeNamedBy(const YAML::Node& section, const std::string& message) {
+  std::size_t start = 0;
+  const std::size_t colon = message.find(": ");
+  if (colon != std::string::npos && message.find(' ') > colon) start = colon + 2;  // "TerrainConfig: ..."
+  std::vector<std::string> parts(1);
+  for (std::size_t i = start; i < message.size(); ++i) {
+    const char c = message[i];
+    if (c == '.' || c == '[') parts.emplace_back();
+    else if (std::isalnum(static_cast<unsigned char>(c)) || c == '_') parts.back() += c;
+    else if (c != ']') break;
+  }
+  for (std::size_t first = 0; first < parts.size(); ++first) {
+    YAML::Node node = section;
+    std::size_t k = first;
+    for (; k < parts.size() && !parts[k].empty(); ++k) {
+      const std::string& part = parts[k];
+      const bool index = part.size() < 9 && std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; });
+      const YAML::Node& here = node;  // const lookups never add keys
+      const YAML::Node next = here.IsMap() ? here[part]
+                              : here.IsSequence() && index && std::stoul(part) < here.size() ? here[std::stoul(part)]
+                                                                                              : YAML::Node(YAML::NodeType::Undefined);
+      if (!next.IsDefined()) break;
+      node.reset(next);  // (assignment would copy the value into the document)
+    }
+    if (k == parts.size() && k > first) return node;
+  }
+  return std::nullopt;
+}
+
+/// Runs a Config's `validate()`; what it refuses becomes a ScenarioError at the line of the key the
+/// message names within `section` (else at the section's), "FILE:LINE: in 'CONTEXT': message".
+template <class F>
+void ValidateAt(const std::string& file, const YAML::Node& section, const std::string& context, F validate) {
+  try {
+    validate();
+  } catch (const std::invalid_argument& e) {
+    const std::optional<YAML::Node> at = NodeNamedBy(section, e.what());
+    throw ScenarioError(Where(file, at ? *at : section) + ": in '" + context + "': " + e.what());
+  }
 }
 
 template <class T>
@@ -97,6 +144,7 @@ class MapReader {
   YAML::Node Child(const char* key) { return Take(key); }
   std::string Key(const char* key) const { return context_.empty() ? key : context_ + "." + key; }
   const std::string& file() const { return file_; }
+  const YAML::Node& node() const { return node_; }
 
   void Finish() const {
     for (const auto& kv : node_) {
@@ -175,13 +223,7 @@ class ConfigReader {
     ConfigReader sub(m);
     navigation::VisitFields(sub, config);
     m.Finish();
-    if constexpr (HasValidate<C>::value) {
-      try {
-        config.Validate();
-      } catch (const std::invalid_argument& e) {
-        r_.Fail(node, "in '" + r_.Key(key) + "': " + e.what());
-      }
-    }
+    if constexpr (HasValidate<C>::value) ValidateAt(r_.file(), node, r_.Key(key), [&config] { config.Validate(); });
   }
 
  private:

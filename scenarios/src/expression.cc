@@ -18,6 +18,7 @@ struct Expression::Node {
   Value value;             // kLiteral
   std::string name;        // kName: the name; kUnary, kBinary: the operator; kCall: the function
   std::vector<std::shared_ptr<const Node>> args;
+  int height = 1;          // levels of nodes down to the deepest leaf (at most kMaxDepth)
 };
 
 namespace {
@@ -25,24 +26,25 @@ namespace {
 using NodePtr = std::shared_ptr<const Expression::Node>;
 using Kind = Expression::Node::Kind;
 
-NodePtr Make(Kind kind, std::string name, std::vector<NodePtr> args, Value value = {}) {
-  auto n = std::make_shared<Expression::Node>();
-  n->kind = kind;
-  n->name = std::move(name);
-  n->args = std::move(args);
-  n->value = std::move(value);
-  return n;
-}
+std::string Quoted(const std::string& text) { return "'" + internal::Abbreviated(text) + "'"; }
 
 bool NameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool NameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; }
 
-// Recursive descent over the text, one method per grammar rule (expression.h).
+// Recursive descent over the text, one method per grammar rule (expression.h). Each way the rules
+// recurse (a parenthesis, a function's arguments, 'not', a sign) counts one level, and every node
+// has its height; both are bounded by Expression::kMaxDepth, so neither the parser, the evaluator
+// nor the tree's destructor recurses deeper than that.
 class Parser {
  public:
   explicit Parser(const std::string& text) : s_(text) {}
 
   NodePtr Whole() {
+    if (s_.size() > Expression::kMaxLength) {
+      i_ = Expression::kMaxLength;
+      Fail("the expression is " + std::to_string(s_.size()) + " characters long; the limit is " +
+           std::to_string(Expression::kMaxLength));
+    }
     NodePtr n = Or();
     Skip();
     if (i_ < s_.size() && s_[i_] == '=') Fail("unexpected '=' (compare with '==')");
@@ -53,7 +55,35 @@ class Parser {
 
  private:
   [[noreturn]] void Fail(const std::string& what) const {
-    throw ExpressionError("in '" + s_ + "' at column " + std::to_string(i_ + 1) + ": " + what);
+    throw ExpressionError("in " + Quoted(s_) + " at column " + std::to_string(i_ + 1) + ": " + what);
+  }
+  [[noreturn]] void FailTooDeep() const {
+    Fail("nested more than " + std::to_string(Expression::kMaxDepth) +
+         " levels deep (parentheses, signs, 'not', or operators in a row)");
+  }
+  // One level of a recursive rule, for as long as the rule runs.
+  class Level {
+   public:
+    explicit Level(Parser* p) : p_(p) {
+      if (p_->depth_ >= Expression::kMaxDepth) p_->FailTooDeep();
+      ++p_->depth_;
+    }
+    ~Level() { --p_->depth_; }
+    Level(const Level&) = delete;
+    Level& operator=(const Level&) = delete;
+
+   private:
+    Parser* p_;
+  };
+  NodePtr Make(Kind kind, std::string name, std::vector<NodePtr> args, Value value = {}) const {
+    auto n = std::make_shared<Expression::Node>();
+    for (const NodePtr& a : args) n->height = std::max(n->height, a->height + 1);
+    if (n->height > Expression::kMaxDepth) FailTooDeep();
+    n->kind = kind;
+    n->name = std::move(name);
+    n->args = std::move(args);
+    n->value = std::move(value);
+    return n;
   }
   void Skip() {
     while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
@@ -76,7 +106,11 @@ class Parser {
     while (Accept("and")) n = Make(Kind::kBinary, "and", {n, Not()});
     return n;
   }
-  NodePtr Not() { return Accept("not") ? Make(Kind::kUnary, "not", {Not()}) : Compare(); }
+  NodePtr Not() {
+    if (!Accept("not")) return Compare();
+    const Level level(this);
+    return Make(Kind::kUnary, "not", {Not()});
+  }
   NodePtr Compare() {
     NodePtr n = Sum();
     for (const char* op : {"<=", ">=", "==", "!=", "<", ">"}) {
@@ -101,15 +135,17 @@ class Parser {
     }
   }
   NodePtr Unary() {
-    if (Accept("-")) return Make(Kind::kUnary, "-", {Unary()});
-    if (Accept("+")) return Unary();
-    return Primary();
+    const bool minus = Accept("-");
+    if (!minus && !Accept("+")) return Primary();
+    const Level level(this);
+    return minus ? Make(Kind::kUnary, "-", {Unary()}) : Unary();
   }
   NodePtr Primary() {
     Skip();
     if (i_ >= s_.size()) Fail("expected a number, a name or '(' but the expression ends");
     const char c = s_[i_];
     if (Accept("(")) {
+      const Level level(this);
       NodePtr n = Or();
       if (!Accept(")")) Fail("expected ')'");
       return n;
@@ -149,6 +185,7 @@ class Parser {
       i_ = start;
       Fail("unknown function '" + name + "' (sin, cos, tan, sqrt, abs, deg2rad, min, max)");
     }
+    const Level level(this);
     std::vector<NodePtr> args = {Or()};
     while (Accept(",")) args.push_back(Or());
     if (!Accept(")")) Fail("expected ',' or ')'");
@@ -159,6 +196,7 @@ class Parser {
 
   const std::string& s_;
   std::size_t i_ = 0;
+  int depth_ = 0;
 };
 
 class Evaluator {
@@ -184,7 +222,7 @@ class Evaluator {
   bool Truth(const Expression::Node& n) const { return Num(n, "a condition") != 0.0; }
 
  private:
-  [[noreturn]] void Fail(const std::string& what) const { throw ExpressionError("in '" + text_ + "': " + what); }
+  [[noreturn]] void Fail(const std::string& what) const { throw ExpressionError("in " + Quoted(text_) + ": " + what); }
   double Num(const Expression::Node& n, const std::string& where) const {
     const Value v = Eval(n);
     if (!v.is_number) Fail("'" + v.word + "' is a word, not a number (in " + where + ")");
@@ -248,7 +286,7 @@ Expression Expression::Parse(const std::string& text) {
 
 Value Expression::Evaluate(const std::map<std::string, Value>& names) const {
   const Value v = Evaluator(names, text_).Eval(*root_);
-  if (v.is_number && !std::isfinite(v.number)) throw ExpressionError("in '" + text_ + "': the result is not a finite number");
+  if (v.is_number && !std::isfinite(v.number)) throw ExpressionError("in " + Quoted(text_) + ": the result is not a finite number");
   return v;
 }
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -150,12 +149,23 @@ void ReadRules(const YAML::Node& root, const std::set<std::string>& defined, con
   }
 }
 
+// The `name:`, or the file's stem when the name holds `$`; a name either way (scenario_yaml.h).
 std::string FamilyName(const YAML::Node& root, const std::string& file) {
   const YAML::Node name = root["name"];
   if (!name) Fail(file, root, "'name' is required");
   if (!name.IsScalar() || name.Scalar().empty()) Fail(file, name, "'name' must be a word");
   const std::string text = name.Scalar();
-  return text.find('$') == std::string::npos ? text : std::filesystem::path(file).stem().string();
+  if (text.find('$') == std::string::npos) {
+    ValidateName(file, name.Mark().line + 1, text, kMaxFamilyNameBytes);
+    return text;
+  }
+  const std::string stem = std::filesystem::path(file).stem().string();
+  const std::string problem = NameProblem(stem, kMaxFamilyNameBytes);
+  if (!problem.empty()) {
+    Fail(file, name, "the name holds '$', so the family is named by its file, but '" + stem + "' " + problem +
+                         ": give the family a 'name:' of letters, digits, '_', '-' and '.'");
+  }
+  return stem;
 }
 
 }  // namespace
@@ -195,11 +205,13 @@ bool IsFamilyText(const std::string& yaml_text) {
 }
 
 bool IsFamilyFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) return false;
-  std::stringstream text;
-  text << in.rdbuf();
-  return IsFamilyText(text.str());
+  std::string text;
+  try {
+    text = ReadSmallRegularFile(path, "scenario file");
+  } catch (const ScenarioError&) {
+    return false;  // the scenario reader says what is wrong with it
+  }
+  return IsFamilyText(text);
 }
 
 Family ParseFamily(const std::string& yaml_text, const std::string& file) {
@@ -226,13 +238,7 @@ Family ParseFamily(const std::string& yaml_text, const std::string& file) {
   return f;
 }
 
-Family LoadFamily(const std::string& path) {
-  std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) throw ScenarioError(path + ": cannot open the family file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseFamily(text.str(), path);
-}
+Family LoadFamily(const std::string& path) { return ParseFamily(ReadSmallRegularFile(path, "family file"), path); }
 
 RunOutcome OutcomeOf(bool passed, std::size_t collision_steps, const std::vector<CriterionResult>& criteria) {
   RunOutcome o;

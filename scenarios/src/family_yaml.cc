@@ -145,7 +145,7 @@ std::optional<std::string> ExpandScalar(const std::string& text, const std::func
   std::size_t pos = 0;
   for (std::size_t open; (open = text.find("${", pos)) != std::string::npos;) {
     const std::size_t close = text.find('}', open);
-    if (close == std::string::npos) throw ExpressionError("in '" + text + "': '${' without its '}'");
+    if (close == std::string::npos) throw ExpressionError("in '" + Abbreviated(text) + "': '${' without its '}'");
     out += text.substr(pos, open - pos) + expr(text.substr(open + 2, close - open - 2));
     pos = close + 1;
   }

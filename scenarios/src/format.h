@@ -17,6 +17,13 @@ inline std::string Fixed(double v, int digits) {
   return s.str();
 }
 
+/// `text` as a message quotes it: whole when short, else its first 60 characters and "...", so that
+/// a message stays one short line whatever a file holds.
+inline std::string Abbreviated(const std::string& text) {
+  constexpr std::size_t kShown = 60;
+  return text.size() <= kShown + 20 ? text : text.substr(0, kShown) + "...";
+}
+
 /// The shortest decimal that reads back as the same double; .inf / -.inf / .nan as YAML spells them.
 inline std::string FormatNumber(double v) {
   if (std::isnan(v)) return ".nan";

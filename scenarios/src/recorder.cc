@@ -1,5 +1,7 @@
 #include "ovpc/scenarios/recorder.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,10 +26,61 @@ Eigen::Vector3d ToWorld(const Eigen::Isometry3d& T_W_L, const planner::Pose2& p)
 
 }  // namespace
 
+bool IsRecorderPicture(const std::string& name) {
+  const auto digits = [&name](std::size_t from, std::size_t to) {
+    if (from >= to) return false;
+    for (std::size_t i = from; i < to; ++i) {
+      if (!std::isdigit(static_cast<unsigned char>(name[i])) && name[i] != '.') return false;
+    }
+    return true;
+  };
+  const auto ends = [&name](const std::string& tail) {
+    return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (name.rfind("frame_", 0) == 0 && ends(".png")) return digits(6, name.size() - 4);
+  if (name.rfind("mesh_", 0) != 0) return false;
+  const std::size_t t = name.find("_t", 5);
+  if (t == std::string::npos || !digits(5, t)) return false;
+  if (ends(".ply")) return digits(t + 2, name.size() - 4);
+  return ends(".ply.partial") && digits(t + 2, name.size() - 12);
+}
+
+void RemoveRecorderPictures(const std::string& dir) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (IsRecorderPicture(name) && entry.is_regular_file(ec)) std::filesystem::remove(entry.path(), ec);
+  }
+}
+
+MapPointSampler::MapPointSampler(std::size_t max_points) : max_points_(std::max<std::size_t>(max_points, 16)) {}
+
+void MapPointSampler::Add(const std::vector<Vec3>& points_L, const Eigen::Isometry3d& T_W_L,
+                          const std::function<bool(std::size_t)>& traversable, std::vector<MapPoint>* kept) {
+  // At the first stride each map starts at its point 0; after a thinning the points are taken
+  // across maps (a stride may then exceed a map's size).
+  const std::size_t n = points_L.size();
+  const auto count = [this, n] {
+    const std::size_t first = stride_ == kFirstStride ? 0 : phase_;
+    return first < n ? (n - first + stride_ - 1) / stride_ : 0;
+  };
+  while (kept->size() + count() > max_points_ && kept->size() > 1) {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < kept->size(); i += 2) (*kept)[k++] = (*kept)[i];
+    kept->resize(k);
+    stride_ *= 2;
+  }
+  std::size_t i = stride_ == kFirstStride ? 0 : phase_;
+  for (; i < n && kept->size() < max_points_; i += stride_) kept->push_back({T_W_L * points_L[i], traversable(i)});
+  phase_ = i >= n ? i - n : 0;
+}
+
 Recorder::Recorder(const Scenario& scenario, const RunOptions& options, const sim::Simulator& sim, RunResult* result)
     : scenario_(scenario), options_(options), result_(result), next_snapshot_s_(scenario.record.mesh_snapshot_period_s) {
   if (options.frames) renderer_ = std::make_unique<sim::Renderer>(sim);
-  if (!options.out_dir.empty()) std::filesystem::create_directories(options.out_dir);
+  if (options.out_dir.empty()) return;
+  std::filesystem::create_directories(options.out_dir);
+  RemoveRecorderPictures(options.out_dir);  // an earlier run's, which would sit beside this one's
 }
 
 Recorder::~Recorder() = default;
@@ -69,7 +122,7 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const nav
   const auto traversable = [&view](std::size_t i) {
     return !view.traversable || i >= view.traversable->size() || (*view.traversable)[i] != 0;
   };
-  for (std::size_t i = 0; i < pts.size(); i += 7) result_->map_points.push_back({T_W_L * pts[i], traversable(i)});
+  map_points_.Add(pts, T_W_L, traversable, &result_->map_points);
   if (renderer_) {
     frame_points_L_ = pts;
     frame_traversable_.resize(pts.size());

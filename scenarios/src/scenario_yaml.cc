@@ -2,12 +2,12 @@
 
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <initializer_list>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -90,6 +90,7 @@ void ReadTerrain(MapReader r, sim::TerrainConfig* t) {
     s.Finish();
   }
   r.Finish();
+  internal::ValidateAt(r.file(), r.node(), "terrain", [t] { t->Validate(); });
 }
 
 // A post field: posts on a grid of `spacing_m` over the rectangle x_m × y_m, each moved by up to
@@ -136,6 +137,32 @@ void ReadPostField(MapReader& r, const YAML::Node& item, sim::World* w) {
   }
 }
 
+// How many objects of each kind a world holds.
+struct ObjectCounts {
+  explicit ObjectCounts(const sim::World& w)
+      : boxes(w.boxes.size()), cylinders(w.cylinders.size()), ellipsoids(w.ellipsoids.size()), carports(w.carports.size()) {}
+  std::size_t boxes, cylinders, ellipsoids, carports;
+};
+
+// The objects read since `before` alone, validated (a violation names the item's key and line).
+void ValidateAdded(const ObjectCounts& before, const sim::World& w, const MapReader& r, const std::string& ctx) {
+  sim::World added;
+  const auto tail = [](const auto& all, std::size_t from) { return std::vector(all.begin() + from, all.end()); };
+  added.boxes = tail(w.boxes, before.boxes);
+  added.cylinders = tail(w.cylinders, before.cylinders);
+  added.ellipsoids = tail(w.ellipsoids, before.ellipsoids);
+  added.carports = tail(w.carports, before.carports);
+  try {
+    added.Validate();
+  } catch (const std::invalid_argument& e) {
+    std::string what = e.what();  // "World: boxes[0].length_m must be > 0": the field is the item's key
+    const std::size_t field = what.find("].");
+    if (what.rfind("World: ", 0) == 0 && field != std::string::npos) what = what.substr(field + 2);
+    const std::optional<YAML::Node> at = internal::NodeNamedBy(r.node(), what);
+    r.Fail(at ? *at : r.node(), "in '" + ctx + "': " + what);
+  }
+}
+
 void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w) {
   if (!list.IsSequence()) throw ScenarioError(Where(file, list) + ": 'objects' must be a list");
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -148,6 +175,7 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
     }
     const std::string type = item.begin()->first.as<std::string>();
     MapReader r(item.begin()->second, ctx + "." + type, file);
+    const ObjectCounts before(*w);
     if (type == "box") {
       sim::BoxObject o;
       r.Required("x_m", &o.x_m);
@@ -200,6 +228,7 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
       r.Fail(item, "unknown object type '" + type + "' in '" + ctx + "' (box, cylinder, sphere, ellipsoid, carport, post_field)");
     }
     r.Finish();
+    ValidateAdded(before, *w, r, ctx + "." + type);
   }
 }
 
@@ -226,7 +255,8 @@ void ReadNavigatorAndRecord(MapReader& r, Scenario* s) {
     try {
       s->navigator.Derived().Validate();
     } catch (const std::invalid_argument& e) {
-      m.Fail(n, std::string("in 'navigator': ") + e.what());
+      const std::optional<YAML::Node> at = internal::NodeNamedBy(r.node(), e.what());
+      m.Fail(at ? *at : n, std::string("in 'navigator': ") + e.what());
     }
   }
   if (const YAML::Node n = r.Child("record")) ReadRecord(MapReader(n, "record", r.file()), &s->record, n);
@@ -313,7 +343,8 @@ void Scenario::Validate() const {
   auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
   // A day of simulated time: a run is bounded, and a typo (.inf, 1e9) does not run for ever.
   if (!(time_limit_s > 0.0) || !(time_limit_s <= 86400.0)) fail("time_limit_s must be in (0, 86400] s");
-  if (route_m.empty()) fail("route needs at least one waypoint");
+  // A route is a line to follow: from a first waypoint to a last one elsewhere.
+  if (route_m.size() < 2) fail("route needs two or more waypoints");
   // The start, the route and the goal lie on the terrain (centred on the origin).
   const double half_x = 0.5 * sim.world.terrain.size_x_m, half_y = 0.5 * sim.world.terrain.size_y_m;
   const auto on_terrain = [&](const Eigen::Vector2d& p) { return std::abs(p.x()) <= half_x && std::abs(p.y()) <= half_y; };
@@ -324,6 +355,9 @@ void Scenario::Validate() const {
     if (!route_m[i].allFinite()) fail("route[" + std::to_string(i) + "] must be finite");
     if (!on_terrain(route_m[i])) fail("route[" + std::to_string(i) + "] lies off the terrain" + extent);
   }
+  double length_m = 0.0;
+  for (std::size_t i = 1; i < route_m.size(); ++i) length_m += (route_m[i] - route_m[i - 1]).norm();
+  if (!(length_m > 0.0)) fail("route has no length: its waypoints are all one point");
   if (!on_terrain(Eigen::Vector2d(sim.start_x_m, sim.start_y_m))) fail("start lies off the terrain" + extent);
   if (criteria.goal_m && !(criteria.goal_m->allFinite() && on_terrain(*criteria.goal_m))) {
     fail("criteria.goal must be finite and on the terrain" + extent);
@@ -339,13 +373,7 @@ void Scenario::Validate() const {
   navigator.Derived().Validate();
 }
 
-Preset LoadPreset(const std::string& path) {
-  std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) throw ScenarioError(path + ": cannot open the preset file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return Preset{text.str(), path};
-}
+Preset LoadPreset(const std::string& path) { return Preset{ReadSmallRegularFile(path, "preset file"), path}; }
 
 namespace {
 
@@ -402,6 +430,7 @@ Scenario ParseScenarioNode(const YAML::Node& root, const std::string& file, cons
   ApplyPreset(preset, &s);
   MapReader r(root, "", file);
   r.Required("name", &s.name);
+  ValidateName(file, root["name"].Mark().line + 1, s.name);
   r.Get("description", &s.description);
   r.Get("seed", &s.seed);
   r.Required("time_limit_s", &s.time_limit_s);
@@ -420,7 +449,7 @@ Scenario ParseScenarioNode(const YAML::Node& root, const std::string& file, cons
   }
   const YAML::Node route = r.Child("route");
   if (!route) r.Fail(root, "'route' is required (a list of [x, y] waypoints in metres)");
-  if (!route.IsSequence() || route.size() == 0) r.Fail(route, "'route' must be a list of [x, y] waypoints");
+  if (!route.IsSequence() || route.size() < 2) r.Fail(route, "'route' must be a list of two or more [x, y] waypoints");
   for (std::size_t i = 0; i < route.size(); ++i) s.route_m.push_back(r.GetXY(route[i], "route[" + std::to_string(i) + "]"));
   if (const YAML::Node n = r.Child("sensor")) {
     MapReader m(n, "sensor", file);
@@ -429,6 +458,7 @@ Scenario ParseScenarioNode(const YAML::Node& root, const std::string& file, cons
     m.Get("outlier_fraction", &s.sim.lidar.outlier_fraction);
     m.Get("extra_noise_sigma_m", &s.sim.lidar.extra_noise_sigma_m);
     m.Finish();
+    internal::ValidateAt(file, n, "sensor", [&s] { s.sim.lidar.Validate(); });
   }
   if (const YAML::Node n = r.Child("odometry")) {
     MapReader m(n, "odometry", file);
@@ -454,6 +484,7 @@ Scenario ParseScenarioNode(const YAML::Node& root, const std::string& file, cons
       }
     }
     m.Finish();
+    internal::ValidateAt(file, n, "odometry", [&o] { o.Validate(); });
   }
   if (const YAML::Node n = r.Child("params")) {
     r.Fail(n, "'params' is gone: the robot's settings are under 'navigator', with the keys of "
@@ -465,7 +496,9 @@ Scenario ParseScenarioNode(const YAML::Node& root, const std::string& file, cons
   try {
     s.Validate();
   } catch (const std::invalid_argument& e) {
-    throw ScenarioError(file + ": " + e.what());
+    // At the line of the key it names ("route[2] lies off the terrain"), when the file has it.
+    const std::optional<YAML::Node> at = internal::NodeNamedBy(root, e.what());
+    throw ScenarioError((at ? Where(file, *at) : file) + ": " + e.what());
   }
   return s;
 } catch (const YAML::Exception& e) {
@@ -486,11 +519,7 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& file, co
 }
 
 Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings, const Preset& preset) {
-  std::ifstream in(path);
-  if (!in) throw ScenarioError(path + ": cannot open the scenario file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseScenario(text.str(), path, settings, preset);
+  return ParseScenario(ReadSmallRegularFile(path, "scenario file"), path, settings, preset);
 }
 
 }  // namespace ovpc::scenarios

@@ -2,8 +2,10 @@
 #include "ovpc/io/cloud_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -478,6 +480,70 @@ TEST_F(CloudIoTest, UnsupportedHeaders) {
 TEST_F(CloudIoTest, KittiBinSizeNotMultipleOf16) {
   EXPECT_TRUE(ReadFails(WriteFile("odd.bin", std::string(20, '\0')),
                         "size 20 bytes is not a multiple of 16"));
+}
+
+TEST_F(CloudIoTest, KittiBinOfZerosOrOneRepeatedRecordIsNotAScan) {
+  EXPECT_TRUE(ReadFails(WriteFile("zeros.bin", std::string(16 * 1000, '\0')), "1000 of 1000 records are all zero bytes"));
+  std::string same;
+  for (int i = 0; i < 100; ++i) {
+    for (float v : {1.5f, 2.5f, 0.5f, 0.1f}) Put<float>(&same, v);
+  }
+  EXPECT_TRUE(ReadFails(WriteFile("same.bin", same), "all 100 records are the same"));
+  // A large file of zeros (sparse: it takes no disk) is refused on its first MiB, quickly.
+  const std::string huge = PathOf("huge.bin");
+  std::ofstream(huge, std::ios::binary).close();
+  fs::resize_file(huge, std::uintmax_t{1} << 30);
+  EXPECT_TRUE(ReadFails(huge, "records are all zero bytes: not a LiDAR scan"));
+}
+
+// Runs `write` with a file size limit of 4 KiB (a full disk fails the same way) and returns its
+// CloudIoError's message ("" if none).
+template <class F>
+std::string WithSmallFileSizeLimit(F write) {
+  struct rlimit old_limit {};
+  if (getrlimit(RLIMIT_FSIZE, &old_limit) != 0) return "getrlimit failed";
+  struct rlimit small = old_limit;
+  small.rlim_cur = 4096;
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);  // a write past the limit fails with EFBIG
+  if (setrlimit(RLIMIT_FSIZE, &small) != 0) return "setrlimit failed";
+  std::string error;
+  try {
+    write();
+  } catch (const CloudIoError& e) {
+    error = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  return error;
+}
+
+// A write that fails half way leaves no truncated file, and an earlier complete file as it was.
+TEST_F(CloudIoTest, AFailedWriteLeavesNoPartFileAndKeepsTheEarlierOne) {
+  const std::string path = PathOf("cloud.ply");
+  WriteCloudPly(path, {Vec3(1, 2, 3)});
+  const std::string earlier = ReadFile(path);
+  const Points many(10000, Vec3(1, 2, 3));
+  const std::string error = WithSmallFileSizeLimit([&] { WriteCloudPly(path, many); });
+  EXPECT_NE(error.find(path + ": write failed"), std::string::npos) << error;
+  EXPECT_EQ(ReadFile(path), earlier);
+  EXPECT_FALSE(fs::exists(path + ".partial"));
+  const std::string fresh = PathOf("fresh.ply");
+  EXPECT_NE(WithSmallFileSizeLimit([&] { WriteCloudPly(fresh, many); }), "");
+  EXPECT_FALSE(fs::exists(fresh));
+  EXPECT_FALSE(fs::exists(fresh + ".partial"));
+  // A link to a device is written through, in place (here: /dev/full, a full disk).
+  if (fs::exists("/dev/full")) {
+    const std::string link = PathOf("full.ply");
+    fs::create_symlink("/dev/full", link);
+    try {
+      WriteCloudPly(link, many);
+      ADD_FAILURE() << "wrote to /dev/full";
+    } catch (const CloudIoError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(link + ": write failed (No space left on device)", 0), 0u) << e.what();
+    }
+    EXPECT_TRUE(fs::is_symlink(link));
+    EXPECT_FALSE(fs::exists(PathOf("full.ply.partial")));
+  }
 }
 
 TEST_F(CloudIoTest, XyzLineWithTwoNumbers) {

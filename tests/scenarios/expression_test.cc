@@ -94,5 +94,39 @@ TEST(ExpressionTest, EvaluationErrors) {
   EXPECT_NE(EvalError("1e308 * 10").find("not a finite number"), std::string::npos);
 }
 
+std::string Repeat(const std::string& unit, std::size_t n) {
+  std::string s;
+  for (std::size_t i = 0; i < n; ++i) s += unit;
+  return s;
+}
+
+// Inputs that once overflowed the stack (SIGSEGV) in the parser, the evaluator or the destructor of
+// the tree: each is refused with an ExpressionError naming the column, or evaluated when within the
+// limits.
+TEST(ExpressionTest, DeepOrLongInputsAreRefusedNotACrash) {
+  const std::size_t depth = Expression::kMaxDepth;
+  EXPECT_DOUBLE_EQ(Eval(Repeat("(", depth) + "1" + Repeat(")", depth)), 1.0);
+  EXPECT_DOUBLE_EQ(Eval(Repeat("-", depth - 2) + "1"), 1.0);  // 98 signs: 99 nodes deep
+  EXPECT_DOUBLE_EQ(Eval("1" + Repeat("+1", depth - 1)), static_cast<double>(depth));
+  EXPECT_DOUBLE_EQ(Eval("max(0" + Repeat(",1", 1000) + ")"), 1.0);  // arguments are not levels
+  const std::string too_deep = "nested more than 100 levels deep";
+  EXPECT_NE(ParseError(Repeat("(", depth + 1) + "1" + Repeat(")", depth + 1)).find("at column 102: " + too_deep), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("(", 5000) + "1" + Repeat(")", 5000)).find("the limit is 4096"), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("(", 2000) + "1" + Repeat(")", 2000)).find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError("1" + Repeat("+1", depth)).find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError("1" + Repeat("+1", 2000)).find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError("1" + Repeat("*1", 2000)).find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError("1" + Repeat(" or 1", 800)).find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("-", 4000) + "1").find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("+", 4000) + "1").find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("not ", 1000) + "1").find(too_deep), std::string::npos);
+  EXPECT_NE(ParseError(Repeat("abs(", 500) + "1" + Repeat(")", 500)).find(too_deep), std::string::npos);
+  // The inputs of the report: 30,000 terms, 100,000 signs: refused by their length, in one short line.
+  const std::string sum = ParseError("1" + Repeat("+1", 29999));
+  EXPECT_NE(sum.find("at column 4097: the expression is 59999 characters long; the limit is 4096"), std::string::npos) << sum;
+  EXPECT_LT(sum.size(), 200u);
+  EXPECT_NE(ParseError(Repeat("-", 100000) + "1").find("the limit is 4096"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ovpc::scenarios

@@ -298,6 +298,66 @@ TEST_F(FamilyTest, ATemplatedNameGivesTheFileStemAndTheDrawsNumberedNames) {
   EXPECT_NE(d.yaml.find("# The family's name for it: roof_" + d.values[0].second.ToString()), std::string::npos) << d.yaml;
 }
 
+TEST_F(FamilyTest, AFamilyNameIsANameNeverAPath) {
+  const auto starts = [](const std::string& error, const std::string& prefix) { return error.rfind(prefix, 0) == 0; };
+  std::string e = FamilyErrorOf(Replaced(kFamily, "name: roofs", "name: \"..\""));
+  EXPECT_TRUE(starts(e, "fam.yaml:1: name '..' starts with '.'")) << e;
+  e = FamilyErrorOf(Replaced(kFamily, "name: roofs", "name: \".\""));
+  EXPECT_TRUE(starts(e, "fam.yaml:1: name '.' starts with '.'")) << e;
+  e = FamilyErrorOf(Replaced(kFamily, "name: roofs", "name: /home/user"));
+  EXPECT_TRUE(starts(e, "fam.yaml:1: name '/home/user' holds '/'")) << e;
+  e = FamilyErrorOf(Replaced(kFamily, "name: roofs", "name: \"a,b\""));
+  EXPECT_TRUE(starts(e, "fam.yaml:1: name 'a,b' holds ','")) << e;
+  e = FamilyErrorOf(Replaced(kFamily, "name: roofs", "name: " + std::string(kMaxFamilyNameBytes + 1, 'f')));
+  EXPECT_NE(e.find("bytes long (at most 64)"), std::string::npos) << e;
+  // Named by its file when the name holds '$': the file's stem must be a name too.
+  const std::string templated = Replaced(kFamily, "name: roofs", "name: roof_${roof_m}");
+  try {
+    ParseFamily(templated, "dir/...yaml");
+    FAIL() << "a family named '..' by its file was read";
+  } catch (const ScenarioError& error) {
+    EXPECT_TRUE(starts(error.what(), "dir/...yaml:1: the name holds '$', so the family is named by its file, but '..' starts with '.'"))
+        << error.what();
+  }
+  // The longest family name gives draws whose names are names.
+  const std::string longest(kMaxFamilyNameBytes, 'f');
+  const Draw d = DrawFamily(ParseFamily(Replaced(kFamily, "name: roofs", "name: " + longest), "fam.yaml"), {2, 1}).back();
+  EXPECT_EQ(d.name, longest + "_001");
+  EXPECT_EQ(NameProblem(d.name), "");
+}
+
+// Expressions deeper or longer than the parser's limits are refused naming the file, the line and
+// the column (they once crashed the suite before any run).
+TEST_F(FamilyTest, DeepExpressionsAreRefusedWithFileLineAndColumn) {
+  const auto starts = [](const std::string& error, const std::string& prefix) { return error.rfind(prefix, 0) == 0; };
+  std::string deep(5000, '(');
+  deep += "roof_m" + std::string(5000, ')');
+  std::string e = FamilyErrorOf(Replaced(kFamily, "${roof_m + 0.25}", "${" + deep + "}"));
+  EXPECT_TRUE(starts(e, "fam.yaml:9: in '((((")) << e;
+  EXPECT_NE(e.find("at column 4097: the expression is 10006 characters long; the limit is 4096"), std::string::npos) << e;
+  std::string sum = "roof_m";
+  for (int i = 0; i < 200; ++i) sum += "+1";
+  e = FamilyErrorOf(Replaced(kFamily, "roof_m >= 2.4", sum + " >= 2.4"));
+  EXPECT_TRUE(starts(e, "fam.yaml:15: 'expect[0].when' in 'roof_m+1+1")) << e;
+  EXPECT_NE(e.find("nested more than 100 levels deep"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+  EXPECT_LT(e.size(), 300u) << e;
+}
+
+// Every family of scenarios/families reads and draws (its draws' names are names).
+TEST_F(FamilyTest, EveryBundledFamilyReadsAndDraws) {
+  int families = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(OVPC_SOURCE_DIR) + "/scenarios/families")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    ASSERT_TRUE(IsFamilyFile(entry.path().string()));
+    const Family f = LoadFamily(entry.path().string());
+    for (const Draw& d : DrawFamily(f, {2, 1})) EXPECT_EQ(NameProblem(d.name), "") << d.name;
+    ++families;
+  }
+  EXPECT_GE(families, 8);
+}
+
 TEST_F(FamilyTest, MalformedFamiliesNameFileLineAndProblem) {
   const auto starts = [](const std::string& error, const std::string& prefix) { return error.rfind(prefix, 0) == 0; };
   std::string e = FamilyErrorOf(Replaced(kFamily, "{uniform: [1.5, 3.5]}", "{gaussian: [1.5, 3.5]}"));

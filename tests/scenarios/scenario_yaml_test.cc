@@ -1,9 +1,19 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
+#include "ovpc/scenarios/family.h"
+
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -232,19 +242,19 @@ TEST(ScenarioValidationTest, ValuesThatWouldRunForeverOrOffTheWorldAreRefused) {
             std::string::npos);
   EXPECT_NE(LoadError(base + "route: [[0, 0], [5, 0]]\ncriteria: {goal: {x_m: 5, y_m: 50}}\n").find("criteria.goal"),
             std::string::npos);
-  const std::string forever = "name: b\ntime_limit_s: .inf\nterrain: {kind: flat, size_m: [40, 20]}\nroute: [[0, 0]]\n";
+  const std::string forever = "name: b\ntime_limit_s: .inf\nterrain: {kind: flat, size_m: [40, 20]}\nroute: [[0, 0], [5, 0]]\n";
   EXPECT_NE(LoadError(forever).find("time_limit_s must be in (0, 86400] s"), std::string::npos) << LoadError(forever);
-  const std::string huge = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1000, 1000]}\nroute: [[0, 0]]\n";
+  const std::string huge = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1000, 1000]}\nroute: [[0, 0], [5, 0]]\n";
   EXPECT_NE(LoadError(huge).find("more than 4 million vertices"), std::string::npos) << LoadError(huge);
   // A size over a cell beyond int (5e12 cells) is bounded before it is converted.
-  const std::string vast = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1e12, 10]}\nroute: [[0, 0]]\n";
+  const std::string vast = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [1e12, 10]}\nroute: [[0, 0], [5, 0]]\n";
   EXPECT_NE(LoadError(vast).find("more than 4 million vertices"), std::string::npos) << LoadError(vast);
-  const std::string twice = "name: b\ntime_limit_s: 5\ntime_limit_s: 9\nroute: [[0, 0]]\n";
+  const std::string twice = "name: b\ntime_limit_s: 5\ntime_limit_s: 9\nroute: [[0, 0], [5, 0]]\n";
   EXPECT_EQ(LoadError(twice).rfind("bad.yaml:3: duplicate key 'time_limit_s'", 0), 0u) << LoadError(twice);
-  const std::string twice_inside = base + "route: [[0, 0]]\nnavigator: {buffer: {max_scans: 3, max_scans: 4}}\n";
+  const std::string twice_inside = base + "route: [[0, 0], [5, 0]]\nnavigator: {buffer: {max_scans: 3, max_scans: 4}}\n";
   EXPECT_NE(LoadError(twice_inside).find("duplicate key 'navigator.buffer.max_scans'"), std::string::npos)
       << LoadError(twice_inside);
-  const std::string odd_key = base + "route: [[0, 0]]\n? [a, b]\n: 1\n";
+  const std::string odd_key = base + "route: [[0, 0], [5, 0]]\n? [a, b]\n: 1\n";
   EXPECT_EQ(LoadError(odd_key).rfind("bad.yaml:", 0), 0u) << LoadError(odd_key);
 }
 
@@ -296,6 +306,142 @@ TEST(ScenarioYamlTest, APostFieldIsPostsOnAJitteredGridTheSameEveryTime) {
       EXPECT_NE(std::string(e.what()).find("field.yaml:6"), std::string::npos) << e.what();
     }
   }
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios
+
+namespace ovpc::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scratch folder for files that are not scenario files, removed after the test.
+class NotAFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ovpc_not_a_file_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string PathOf(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// The message of every loader on `path`, each of which must refuse it quickly.
+std::vector<std::string> LoaderErrors(const std::string& path) {
+  std::vector<std::string> errors;
+  const auto error_of = [&errors](const auto& load) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      load();
+      errors.push_back("accepted");
+    } catch (const ScenarioError& e) {
+      errors.push_back(e.what());
+    }
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1)) << errors.back();
+  };
+  error_of([&] { LoadScenario(path); });
+  error_of([&] { LoadPreset(path); });
+  error_of([&] { LoadFamily(path); });
+  EXPECT_FALSE(IsFamilyFile(path));
+  return errors;
+}
+
+// Each loader refuses what is not a regular file before opening it (a FIFO would block the open,
+// /dev/zero would be read for ever), and a file over the limit before reading it.
+TEST_F(NotAFileTest, LoadersRefuseWhatIsNotAFileOrTooLarge) {
+  for (const std::string& e : LoaderErrors(dir_.string())) {
+    EXPECT_EQ(e.rfind(dir_.string() + ": is a directory, not a ", 0), 0u) << e;
+  }
+  const std::string fifo = PathOf("fifo.yaml");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& e : LoaderErrors(fifo)) EXPECT_EQ(e, fifo + ": is not a regular file (a FIFO)");
+  if (fs::exists("/dev/zero")) {
+    for (const std::string& e : LoaderErrors("/dev/zero")) EXPECT_EQ(e, "/dev/zero: is not a regular file (a character device)");
+  }
+  const std::string socket_path = PathOf("socket.yaml");
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof address.sun_path, "%s", socket_path.c_str());
+  if (fd >= 0 && ::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0) {
+    for (const std::string& e : LoaderErrors(socket_path)) EXPECT_EQ(e, socket_path + ": is not a regular file (a socket)");
+  }
+  if (fd >= 0) ::close(fd);
+  const std::string huge = PathOf("huge.yaml");
+  std::ofstream(huge).close();
+  fs::resize_file(huge, std::uintmax_t{2} << 30);  // sparse: no disk used
+  const std::vector<std::string> errors = LoaderErrors(huge);
+  EXPECT_EQ(errors[0], huge + ": is 2147483648 bytes; a scenario file is at most 1048576 bytes (1 MiB)");
+  EXPECT_EQ(errors[1], huge + ": is 2147483648 bytes; a preset file is at most 1048576 bytes (1 MiB)");
+  EXPECT_EQ(errors[2], huge + ": is 2147483648 bytes; a family file is at most 1048576 bytes (1 MiB)");
+  for (const std::string& e : LoaderErrors(PathOf("missing.yaml"))) {
+    EXPECT_NE(e.find("missing.yaml: cannot open the "), std::string::npos) << e;
+    EXPECT_NE(e.find("(No such file or directory)"), std::string::npos) << e;
+  }
+}
+
+TEST(ScenarioNameTest, ANameIsANameNeverAPath) {
+  for (const char* good : {"carport_2p5", "a", "slope-20.v2", "carport_height_007", "A_B-c.d"}) {
+    EXPECT_EQ(NameProblem(good), "") << good;
+  }
+  EXPECT_EQ(NameProblem(std::string(100, 'a')), "");
+  EXPECT_EQ(NameProblem(std::string(101, 'a')), "is 101 bytes long (at most 100)");
+  EXPECT_EQ(NameProblem(""), "is empty");
+  EXPECT_EQ(NameProblem("."), "starts with '.'");
+  EXPECT_EQ(NameProblem(".."), "starts with '.'");
+  EXPECT_EQ(NameProblem(".hidden"), "starts with '.'");
+  EXPECT_EQ(NameProblem("/tmp/x"), "holds '/' (a name is not a path)");
+  EXPECT_EQ(NameProblem("../up"), "starts with '.'");
+  EXPECT_EQ(NameProblem("a/../b"), "holds '/' (a name is not a path)");
+  EXPECT_EQ(NameProblem("a,b"), "holds ','");
+  EXPECT_EQ(NameProblem("a b"), "holds '\\x20'");
+  EXPECT_EQ(NameProblem("a\nb"), "holds '\\x0a'");
+  EXPECT_EQ(NameProblem("caf\xc3\xa9"), "holds '\\xc3'");
+  EXPECT_EQ(NameProblem("a\\b"), "holds '\\'");
+  const std::string base = "time_limit_s: 5\nterrain: {kind: flat, size_m: [40, 20]}\nroute: [[0, 0], [5, 0]]\n";
+  EXPECT_EQ(ErrorOf("name: \"..\"\n" + base),
+            "test.yaml:1: name '..' starts with '.'; a name is 1 to 100 ASCII letters, digits, '_', '-' and '.', not starting "
+            "with '.'");
+  EXPECT_EQ(ErrorOf("description: x\nname: /some/dir\n" + base).rfind("test.yaml:2: name '/some/dir' holds '/'", 0), 0u);
+  EXPECT_EQ(ErrorOf("name: " + std::string(300, 'n') + "\n" + base).rfind("test.yaml:1: name 'nnnnn", 0), 0u);
+  EXPECT_NE(ErrorOf("name: ok\n" + base, {"name=.."}).find("name '..' starts with '.'"), std::string::npos)
+      << ErrorOf("name: ok\n" + base, {"name=.."});
+  EXPECT_EQ(ErrorOf("name: a-b.c_2\n" + base), "");
+}
+
+// A range check names the file, the line of the key it refuses and the key.
+TEST(ScenarioValidationTest, RangeChecksNameTheLineOfTheirKey) {
+  const std::string head = "name: b\ntime_limit_s: 5\nterrain: {kind: flat, size_m: [40, 20]}\n";
+  const std::string route = "route: [[0, 0], [5, 0]]\n";
+  EXPECT_EQ(LoadError(head + "route: [[0, 0]]\n").rfind("bad.yaml:4: 'route' must be a list of two or more [x, y] waypoints", 0), 0u)
+      << LoadError(head + "route: [[0, 0]]\n");
+  EXPECT_EQ(LoadError(head + "route:\n  - [1, 1]\n  - [1, 1]\n").rfind("bad.yaml:5: route has no length", 0), 0u)
+      << LoadError(head + "route:\n  - [1, 1]\n  - [1, 1]\n");
+  EXPECT_EQ(LoadError(head + "route:\n  - [0, 0]\n  - [5, 0]\n  - [50, 0]\n").rfind("bad.yaml:7: route[2] lies off the terrain", 0), 0u)
+      << LoadError(head + "route:\n  - [0, 0]\n  - [5, 0]\n  - [50, 0]\n");
+  EXPECT_EQ(LoadError("name: b\ntime_limit_s: .inf\n" + route).rfind("bad.yaml:2: time_limit_s must be in (0, 86400] s", 0), 0u);
+  const std::string ramp = "name: b\ntime_limit_s: 5\nterrain:\n  kind: ramp\n  ramp:\n    height_m: 1\n    angle_deg: 95\n" + route;
+  EXPECT_EQ(LoadError(ramp).rfind("bad.yaml:7: in 'terrain': TerrainConfig: ramp.angle_deg must be in (0, 80)", 0), 0u)
+      << LoadError(ramp);
+  const std::string box = head + route + "objects:\n  - cylinder: {x_m: 3, y_m: 3}\n  - box:\n      x_m: 1\n      y_m: 1\n      length_m: -2\n";
+  EXPECT_EQ(LoadError(box).rfind("bad.yaml:10: in 'objects[1].box': length_m must be > 0", 0), 0u) << LoadError(box);
+  const std::string sensor = head + route + "sensor:\n  range_sigma_m: 0.01\n  dropout_fraction: 2\n";
+  EXPECT_EQ(LoadError(sensor).rfind("bad.yaml:7: in 'sensor': Vlp16Sim::Config: dropout_fraction must be in [0, 1]", 0), 0u)
+      << LoadError(sensor);
+  const std::string odometry = head + route + "odometry:\n  noise_xy_m: 0.1\n  noise_z_m: -1\n";
+  EXPECT_EQ(LoadError(odometry).rfind("bad.yaml:7: in 'odometry': ", 0), 0u) << LoadError(odometry);
+  const std::string goal = head + route + "criteria:\n  goal:\n    x_m: 5\n    y_m: 0\n    radius_m: 1000\n";
+  EXPECT_EQ(LoadError(goal).rfind("bad.yaml:9: criteria.goal.radius_m must be at most 100 m", 0), 0u) << LoadError(goal);
+  // A speed no ground vehicle drives is refused, at its line.
+  const std::string fast = head + route + "navigator:\n  follower:\n    lookahead_min_m: 1\n    target_speed_mps: 1e308\n";
+  EXPECT_EQ(LoadError(fast).rfind("bad.yaml:8: in 'navigator.follower': PurePursuit::Config: target_speed_mps must be in (0, 30] m/s, "
+                                  "got 1e+308", 0),
+            0u)
+      << LoadError(fast);
+  EXPECT_NE(ErrorOf(head + route, {"navigator.follower.target_speed_mps=31"}).find("target_speed_mps must be in (0, 30] m/s"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -31,6 +31,9 @@ namespace ovpc::controller {
 /// step with the measured rear-axle pose and speed.
 class PurePursuit {
  public:
+  /// The largest speed a Config may set (108 km/h).
+  static constexpr double kMaxSpeedMps = 30.0;
+
   struct Config {
     double wheelbase_m = VehicleModel{}.wheelbase_m;
     double max_steering_rad = DegToRad(VehicleModel{}.max_steering_deg);

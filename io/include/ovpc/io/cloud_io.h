@@ -39,6 +39,9 @@ Points ReadCloud(const std::string& path, CloudFormat format = CloudFormat::kAut
 /// @throws CloudIoError for an unknown or malformed format.
 Points ParseCloud(const std::string& bytes, CloudFormat format, const std::string& name, int bin_fields = 4);
 
+/// The writers below write PATH.partial and rename it to PATH: PATH is whole or not written (an
+/// earlier PATH stays as it was); a failure removes PATH.partial and throws CloudIoError.
+
 /// Binary little-endian PLY with float x, y, z.
 void WriteCloudPly(const std::string& path, const Points& points);
 

@@ -3,6 +3,7 @@
 // expect rule. A hand-written recursive-descent parser; no dependency.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -41,9 +42,17 @@ class ExpressionError : public std::runtime_error {
 /// Functions: sin cos tan (radians) sqrt abs deg2rad (one argument), min max (two or more). Names
 /// start with a letter or '_' and may hold letters, digits, '_' and '.' (an inline distribution's
 /// dotted path). Comparisons and logic give 1 or 0; a number is true when it is not 0.
+///
+/// Limits, so that no text makes the parser, the evaluator or the tree recurse without bound: at
+/// most kMaxLength characters, and at most kMaxDepth levels of nesting, counted over parentheses,
+/// function calls, signs, `not` and operators in a row (a chain `a + b + ...` has at most kMaxDepth
+/// terms; `min` and `max` take any number of arguments).
 class Expression {
  public:
-  /// @throws ExpressionError naming the column of a syntax error.
+  static constexpr std::size_t kMaxLength = 4096;
+  static constexpr int kMaxDepth = 100;
+
+  /// @throws ExpressionError naming the column of a syntax error or of a limit exceeded.
   static Expression Parse(const std::string& text);
 
   /// @throws ExpressionError (unknown name, division by zero, sqrt of a negative number, a word

@@ -2,8 +2,11 @@
 // rows, the planner's calls in the world frame, the mapped points, mesh snapshots and frames.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -14,6 +17,37 @@
 #include "ovpc/sim/simulator.h"
 
 namespace ovpc::scenarios {
+
+/// The map points a run keeps for its top-down picture (RunResult::map_points), in memory bounded
+/// whatever the run's length: every 7th point of each map while they are at most `max_points`
+/// (about 5 minutes of simulated time at the default bound: such a run's picture is what it always
+/// was); when the next map's would exceed that, every other point kept so far is dropped and the
+/// stride doubles, counted on across maps from then on. Deterministic: the same maps give the same
+/// points.
+class MapPointSampler {
+ public:
+  static constexpr std::size_t kDefaultMaxPoints = std::size_t{1} << 22;  ///< 128 MiB of MapPoint
+  explicit MapPointSampler(std::size_t max_points = kDefaultMaxPoints);
+
+  /// Adds the sampled points of one map, `points_L` placed in the world through `T_W_L`;
+  /// `traversable(i)` is point i's flag.
+  void Add(const std::vector<Vec3>& points_L, const Eigen::Isometry3d& T_W_L, const std::function<bool(std::size_t)>& traversable,
+           std::vector<MapPoint>* kept);
+  std::size_t stride() const { return stride_; }
+
+ private:
+  static constexpr std::size_t kFirstStride = 7;
+  std::size_t max_points_;
+  std::size_t stride_ = kFirstStride;
+  std::size_t phase_ = 0;  ///< where the next map starts, after a thinning
+};
+
+/// True for the names the recorder gives its snapshots and frames: mesh_<iii>_t<time>.ply (and its
+/// .partial while written) and frame_<ccccc>.png.
+bool IsRecorderPicture(const std::string& name);
+/// Removes the files of `dir` (not of its subfolders) that IsRecorderPicture names; nothing else.
+/// A recorder does this to its folder first, so that a folder never mixes two runs' pictures.
+void RemoveRecorderPictures(const std::string& dir);
 
 class Recorder {
  public:
@@ -37,6 +71,7 @@ class Recorder {
   std::unique_ptr<sim::Renderer> renderer_;
   double next_record_s_ = 0.0, next_snapshot_s_ = 0.0, next_frame_s_ = 0.0;
   int snapshot_index_ = 0;
+  MapPointSampler map_points_;
   std::size_t plans_seen_ = 0, maps_seen_ = 0;
   // The latest map's points and where its frame was in the world, for frames.
   std::vector<Vec3> frame_points_L_;

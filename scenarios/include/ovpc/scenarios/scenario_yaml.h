@@ -1,8 +1,9 @@
 // Scenario files: YAML (yaml-cpp) into Scenario, strictly. The schema is in scenarios/README.md.
 #pragma once
 
-#include <stdexcept>
+#include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,33 @@ class ScenarioError : public std::runtime_error {
   /// one line.
   explicit ScenarioError(const std::string& what);
 };
+
+/// The largest scenario, family or preset file read: 1 MiB (the largest bundled one is under 20 KB).
+constexpr std::uintmax_t kMaxScenarioFileBytes = std::uintmax_t{1} << 20;
+
+/// The bytes of the regular file `path` of at most `max_bytes`. Anything else is refused before a
+/// byte is read and without blocking: a missing file, a directory, a FIFO, a socket or a device
+/// (/dev/zero), a larger file. `what` names the kind of file in messages ("scenario file").
+/// @throws ScenarioError, one line "PATH: problem", e.g. "x.yaml: is a directory, not a scenario
+/// file", "x.yaml: is not a regular file (a FIFO)", "x.yaml: is 2147483648 bytes; a scenario file
+/// is at most 1048576 bytes (1 MiB)".
+std::string ReadSmallRegularFile(const std::string& path, const std::string& what,
+                                 std::uintmax_t max_bytes = kMaxScenarioFileBytes);
+
+/// Scenario and family names are used as folder and file names of runs, so a name is a name, never
+/// a path: 1 to kMaxNameBytes bytes of ASCII letters, digits, '_', '-' and '.', not starting with
+/// '.' (so never "." or ".."), no '/', no space, no comma, no control character. A family's name
+/// is at most kMaxFamilyNameBytes, so that its draws' names (<family>_<index>) are names too.
+constexpr std::size_t kMaxNameBytes = 100;
+constexpr std::size_t kMaxFamilyNameBytes = 64;
+
+/// What is wrong with `name` as a scenario or family name ("starts with '.'", ...), or "" when it
+/// is one.
+std::string NameProblem(const std::string& name, std::size_t max_bytes = kMaxNameBytes);
+
+/// @throws ScenarioError "FILE:LINE: name '...' problem; a name is ..." (no line when `line` <= 0)
+/// unless `name` is a valid name.
+void ValidateName(const std::string& file, int line, const std::string& name, std::size_t max_bytes = kMaxNameBytes);
 
 /// The robot's configuration a scenario starts from: YAML with a `navigator:` section (the keys of
 /// navigation::VisitFields) and a `record:` section, and the file name that errors give.
