@@ -508,6 +508,12 @@ TEST_F(CliTest, AFolderNotMadeByOvpcIsNotCleared) {
   ASSERT_EQ(Run("family " + Path("family.yaml") + " --samples 1 --out " + Path("out")).exit_code, 0);
   ASSERT_EQ(Run("family " + Path("family.yaml") + " --samples 1 --out " + Path("out")).exit_code, 0);
   EXPECT_TRUE(fs::exists(Path("out/fam/draw_000/scenario.yaml")));
+  // Two families with one name get folders of their own instead of overwriting each other's draws.
+  WriteText("family2.yaml", family);
+  const RunResult two = Run("family " + Path("family.yaml") + " " + Path("family2.yaml") + " --samples 1 --out " + Path("two"));
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_TRUE(fs::exists(Path("two/fam/draw_000/scenario.yaml")));
+  EXPECT_TRUE(fs::exists(Path("two/fam_2/draw_000/scenario.yaml")));
 }
 
 // Limits that cannot be met are refused at once with exit 2 and the count, before anything is
