@@ -1,25 +1,18 @@
 #include "ovpc/planner/local_goal.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdint>
-#include <functional>
 #include <limits>
-#include <queue>
 #include <utility>
 #include <stdexcept>
 #include <string>
 
+#include "reachable_goals.h"
+
 namespace ovpc::planner {
 namespace {
 
-struct RoutePoint {
-  Eigen::Vector2d position;
-  double yaw_rad;
-  double progress_m;
-  bool is_end;
-};
+using internal::RoutePoint;
 
 // The route in frame L, resampled every `step_m` along each leg, each point with the leg's heading.
 std::vector<RoutePoint> Resample(const std::vector<Eigen::Vector2d>& route_O, const Eigen::Isometry3d& T_L_O,
@@ -86,234 +79,6 @@ std::pair<std::size_t, std::size_t> AheadRange(const PlanningMap& map, const std
   return {closest, end};
 }
 
-// The kReachable goals (see LocalGoalSelection::Config::Mode).
-std::vector<LocalGoal> SelectReachableGoals(const PlanningMap& map, const VehicleBox& vehicle,
-                                            const std::vector<RoutePoint>& route, std::size_t closest, std::size_t end,
-                                            const Pose2& vehicle_L, const LocalGoalSelection::Config& config,
-                                            const std::optional<LocalGoal>& previous_L, std::size_t max_count) {
-  std::vector<LocalGoal> goals;
-  const MapBounds bounds = map.Bounds();
-  if (!(bounds.max_x_m >= bounds.min_x_m) || !(bounds.max_y_m >= bounds.min_y_m)) return goals;
-  // The grid covers the map and a border of unknown ground around it, at most kMaxCells a side.
-  constexpr double kBorderM = 4.0;
-  constexpr int kMaxCells = 400;
-  const double cell = std::max(config.cell_m, (std::max(bounds.max_x_m - bounds.min_x_m, bounds.max_y_m - bounds.min_y_m) +
-                                               2 * kBorderM) / (kMaxCells - 1));
-  const double x0 = bounds.min_x_m - kBorderM, y0 = bounds.min_y_m - kBorderM;
-  const int nx = static_cast<int>((bounds.max_x_m - bounds.min_x_m + 2 * kBorderM) / cell) + 1;
-  const int ny = static_cast<int>((bounds.max_y_m - bounds.min_y_m + 2 * kBorderM) / cell) + 1;
-  const auto index = [nx](int ix, int iy) { return static_cast<std::size_t>(iy) * nx + ix; };
-  const auto centre = [&](int ix, int iy) { return Eigen::Vector2d(x0 + (ix + 0.5) * cell, y0 + (iy + 0.5) * cell); };
-  const auto cell_of = [&](const Eigen::Vector2d& p, int* ix, int* iy) {
-    *ix = static_cast<int>(std::floor((p.x() - x0) / cell));
-    *iy = static_cast<int>(std::floor((p.y() - y0) / cell));
-    return *ix >= 0 && *iy >= 0 && *ix < nx && *iy < ny;
-  };
-
-  // Cells: known traversable, known non-traversable (blocked) or unknown, from the ground projection
-  // of the cell's centre; blocked cells grow by half the vehicle's width. Known ground with a map
-  // point over it in the vehicle's height band (above the ground clearance, below the mast's top) is
-  // overhead-blocked: the vehicle cannot be there, so neither the reach nor the cost to go passes
-  // under a roof too low for it. These cells do not grow: a single stray return over the ground
-  // (an outlier the buffer kept) then costs a detour of one cell, not a vehicle's width.
-  enum : std::uint8_t { kUnknown, kFree, kBlocked, kOverhead };
-  VehicleBox column = vehicle;
-  column.length_m = column.width_m = cell;
-  column.centre_ahead_m = 0.0;
-  column.margin_m = 0.0;
-  column.footprint_check = VehicleBox::FootprintCheck::kWheels;
-  std::vector<std::uint8_t> state(static_cast<std::size_t>(nx) * ny, kUnknown);
-  std::vector<Eigen::Vector2d> blocking;  // the non-traversable point of each kBlocked cell
-  std::vector<std::size_t> blocking_cell;
-  for (int iy = 0; iy < ny; ++iy) {
-    for (int ix = 0; ix < nx; ++ix) {
-      const Eigen::Vector2d c = centre(ix, iy);
-      if (!bounds.Contains(c.x(), c.y())) continue;
-      const std::optional<GroundPose> g = map.Project(Pose2{c.x(), c.y(), 0.0});
-      if (!g) continue;
-      // Known traversable from the nearest visible point; known non-traversable only from a point
-      // in the cell: a single steep vertex among sparse ground claims no cells around it.
-      if (g->traversable) {
-        if ((g->surface_point.head<2>() - c).norm() <= config.reach_support_m) {
-          state[index(ix, iy)] = map.CheckBox(*g, column) == PoseCheck::kCollision ? kOverhead : kFree;
-        }
-      } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell) {
-        state[index(ix, iy)] = kBlocked;
-        blocking.push_back(g->surface_point.head<2>());
-        blocking_cell.push_back(index(ix, iy));
-      }
-    }
-  }
-  const auto impassable = [&state](std::size_t j) { return state[j] == kBlocked || state[j] == kOverhead; };
-  // Cells the vehicle's centre cannot be in: within half its width and its margin of a
-  // non-traversable point (measured from the point itself, not from its cell: growing whole cells
-  // would close a lane between posts 2.7 m apart that the 1.5 m vehicle fits through).
-  std::vector<std::uint8_t> blocked(state.size(), 0);
-  const double half_width = 0.5 * vehicle.width_m + vehicle.margin_m;
-  const int grow = static_cast<int>(std::ceil(half_width / cell)) + 1;
-  for (std::size_t k = 0; k < blocking.size(); ++k) {
-    const int ix = static_cast<int>(blocking_cell[k] % nx), iy = static_cast<int>(blocking_cell[k] / nx);
-    for (int dy = -grow; dy <= grow; ++dy) {
-      for (int dx = -grow; dx <= grow; ++dx) {
-        const int jx = ix + dx, jy = iy + dy;
-        if (jx >= 0 && jy >= 0 && jx < nx && jy < ny && (centre(jx, jy) - blocking[k]).norm() <= half_width) {
-          blocked[index(jx, jy)] = 1;
-        }
-      }
-    }
-  }
-
-  // Dijkstra over the 8-connected grid from seeded cells, through the cells `passable` allows.
-  const auto dijkstra = [&](std::vector<double>* cost, const std::function<bool(std::size_t)>& passable) {
-    using Item = std::pair<double, std::size_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-    for (std::size_t i = 0; i < cost->size(); ++i) {
-      if (std::isfinite((*cost)[i])) open.push({(*cost)[i], i});
-    }
-    static constexpr std::array<std::array<int, 2>, 8> kSteps = {
-        {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}}};
-    while (!open.empty()) {
-      const auto [c, i] = open.top();
-      open.pop();
-      if (c > (*cost)[i]) continue;
-      const int ix = static_cast<int>(i % nx), iy = static_cast<int>(i / nx);
-      for (const auto& step : kSteps) {
-        const int jx = ix + step[0], jy = iy + step[1];
-        if (jx < 0 || jy < 0 || jx >= nx || jy >= ny) continue;
-        const std::size_t j = index(jx, jy);
-        if (!passable(j)) continue;
-        const double next = c + cell * ((step[0] != 0 && step[1] != 0) ? std::sqrt(2.0) : 1.0) *
-                                    (state[j] == kUnknown ? config.unknown_cost : 1.0);
-        if (next < (*cost)[j]) {
-          (*cost)[j] = next;
-          open.push({next, j});
-        }
-      }
-    }
-  };
-  const double inf = std::numeric_limits<double>::infinity();
-  // Cost to go: from the last route point ahead inside the grid (where the route leaves the map, or
-  // its end), its remaining route length; every other place counts its way to that point. Seeding
-  // every route point with its remaining length instead would make the foot of a wall across the
-  // route as good as the route beyond it.
-  const double route_length = route.back().progress_m;
-  std::vector<double> to_go(state.size(), inf);
-  for (std::size_t i = end; i-- > closest;) {
-    int ix, iy;
-    if (!cell_of(route[i].position, &ix, &iy) || impassable(index(ix, iy))) continue;
-    to_go[index(ix, iy)] = route_length - route[i].progress_m;
-    break;
-  }
-  // The cost to go goes round known non-traversable cells themselves (optimistic, like unknown
-  // ground); the vehicle's reach keeps half its width from them.
-  dijkstra(&to_go, [&](std::size_t j) { return !impassable(j); });
-  // Reach: from the vehicle over known-traversable cells outside the grown blocked ones; the cells
-  // within a vehicle's width of the vehicle are passable whatever they are (it stands there).
-  const Eigen::Vector2d here(vehicle_L.x_m, vehicle_L.y_m);
-  std::vector<double> reach(state.size(), inf);
-  int vx, vy;
-  if (!cell_of(here, &vx, &vy)) return goals;
-  reach[index(vx, vy)] = 0.0;
-  dijkstra(&reach, [&](std::size_t j) {
-    if (state[j] == kFree && !blocked[j]) return true;
-    const Eigen::Vector2d c = centre(static_cast<int>(j % nx), static_cast<int>(j / nx));
-    return !impassable(j) && (c - here).norm() <= vehicle.width_m;
-  });
-
-  // Candidates: reached cells by cost to go, each with the heading down the cost-to-go field.
-  const auto qualifies = [&](const Pose2& pose, bool is_end) {
-    if (!is_end && (Eigen::Vector2d(pose.x_m, pose.y_m) - here).norm() < config.min_distance_m) return false;
-    if (!map.IsKnownFree(pose.x_m, pose.y_m)) return false;
-    return !config.require_vehicle_fit || CheckPose(map, vehicle, pose) == PoseCheck::kValid;
-  };
-  // Score: cost to go plus reach_offset_penalty per metre away from the route ahead (sampled every
-  // metre).
-  std::vector<Eigen::Vector2d> route_ahead;
-  if (config.reach_offset_penalty > 0.0) {
-    for (std::size_t i = closest; i < end; i += 4) route_ahead.push_back(route[i].position);
-    if (end > closest) route_ahead.push_back(route[end - 1].position);
-  }
-  const auto off_route = [&](const Eigen::Vector2d& p) {
-    double best = inf;
-    for (const Eigen::Vector2d& r : route_ahead) best = std::min(best, (r - p).squaredNorm());
-    return route_ahead.empty() ? 0.0 : std::sqrt(best);
-  };
-  std::vector<double> score(state.size(), inf);
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    if (!std::isfinite(reach[i]) || !std::isfinite(to_go[i])) continue;
-    const Eigen::Vector2d c = centre(static_cast<int>(i % nx), static_cast<int>(i / nx));
-    score[i] = to_go[i] + config.reach_offset_penalty * off_route(c);
-    if (previous_L && config.previous_goal_penalty > 0.0) {
-      score[i] += config.previous_goal_penalty * (c - Eigen::Vector2d(previous_L->pose.x_m, previous_L->pose.y_m)).norm();
-    }
-    order.push_back(i);
-  }
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return score[a] < score[b]; });
-  const double best_score = order.empty() ? inf : score[order.front()];
-
-  // The route's end, when it is reached, and the previous goal, when it is still nearly as good.
-  const auto cost_at = [&](const Eigen::Vector2d& p, const std::vector<double>& field) {
-    int ix, iy;
-    return cell_of(p, &ix, &iy) ? field[index(ix, iy)] : inf;
-  };
-  if (route.back().is_end && end == route.size()) {
-    const RoutePoint& r = route.back();
-    const Pose2 pose{r.position.x(), r.position.y(), r.yaw_rad};
-    if (std::isfinite(cost_at(r.position, reach)) && qualifies(pose, true)) goals.push_back({pose, r.progress_m, true});
-  }
-  if (goals.empty() && previous_L && config.keep_previous_within_m > 0.0) {
-    const Eigen::Vector2d p(previous_L->pose.x_m, previous_L->pose.y_m);
-    if (std::isfinite(cost_at(p, reach)) && cost_at(p, score) <= best_score + config.keep_previous_within_m &&
-        qualifies(previous_L->pose, previous_L->is_route_end)) {
-      goals.push_back(*previous_L);
-    }
-  }
-  constexpr std::size_t kMaxChecked = 400;
-  constexpr double kMinSpacingM = 2.0;
-  constexpr double kInteriorM = 0.5;
-  constexpr double kHeadingM = 2.5;
-  const int rim = static_cast<int>(std::ceil(kInteriorM / cell));
-  const int around = static_cast<int>(std::ceil(kHeadingM / cell));
-  std::size_t checked = 0;
-  for (std::size_t i : order) {
-    if (goals.size() >= max_count || checked >= kMaxChecked) break;
-    const int ix = static_cast<int>(i % nx), iy = static_cast<int>(i / nx);
-    const Eigen::Vector2d c = centre(ix, iy);
-    if (std::any_of(goals.begin(), goals.end(), [&](const LocalGoal& g) {
-          return (Eigen::Vector2d(g.pose.x_m, g.pose.y_m) - c).norm() < kMinSpacingM;
-        })) {
-      continue;
-    }
-    // Only cells inside the known region, not on its rim: the rim of what is known is where
-    // sparse ground comes and goes from one map update to the next. (Known, not reached: a lane
-    // between posts may be one cell wide in the reach.)
-    bool interior = true;
-    for (int dy = -rim; dy <= rim && interior; ++dy) {
-      for (int dx = -rim; dx <= rim && interior; ++dx) {
-        const int jx = ix + dx, jy = iy + dy;
-        interior = jx >= 0 && jy >= 0 && jx < nx && jy < ny && state[index(jx, jy)] != kUnknown;
-      }
-    }
-    if (!interior) continue;
-    // Heading: towards the cell with the least cost to go within kHeadingM (a wide stencil, so that
-    // the heading does not jump between the eight grid directions).
-    double best = to_go[i], yaw = vehicle_L.yaw_rad;
-    for (int dy = -around; dy <= around; ++dy) {
-      for (int dx = -around; dx <= around; ++dx) {
-        const int jx = ix + dx, jy = iy + dy;
-        if ((dx == 0 && dy == 0) || jx < 0 || jy < 0 || jx >= nx || jy >= ny || dx * dx + dy * dy > around * around) continue;
-        const double v = to_go[index(jx, jy)];
-        if (v < best) best = v, yaw = std::atan2(static_cast<double>(dy), static_cast<double>(dx));
-      }
-    }
-    ++checked;
-    const Pose2 pose{c.x(), c.y(), NormalizeYaw(yaw)};
-    if (qualifies(pose, false)) goals.push_back({pose, std::max(0.0, route_length - to_go[i]), false});
-  }
-  return goals;
-}
-
 }  // namespace
 
 void LocalGoalSelection::Config::Validate() const {
@@ -376,7 +141,7 @@ std::vector<LocalGoal> SelectLocalGoals(const PlanningMap& map, const VehicleBox
   // ends where the route has been outside known free space for more than max_gap_m.
   const auto [closest, end] = AheadRange(map, route, here, config, vehicle_progress_m);
   if (config.mode == LocalGoalSelection::Config::Mode::kReachable) {
-    return SelectReachableGoals(map, vehicle, route, closest, end, vehicle_L, config, previous_L, max_count);
+    return internal::ReachableGoals(map, vehicle, route, closest, end, vehicle_L, config, previous_L).Select(max_count);
   }
 
   std::vector<double> offsets = {0.0};

@@ -1,0 +1,283 @@
+#include "reachable_goals.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <utility>
+
+#include "ovpc/planner/path.h"
+
+namespace ovpc::planner::internal {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
+ReachableGoals::ReachableGoals(const PlanningMap& map, const VehicleBox& vehicle, const std::vector<RoutePoint>& route,
+                               std::size_t closest, std::size_t end, const Pose2& vehicle_L,
+                               const LocalGoalSelection::Config& config, const std::optional<LocalGoal>& previous_L)
+    : map_(map), vehicle_(vehicle), route_(route), closest_(closest), end_(end), vehicle_L_(vehicle_L), config_(config),
+      previous_L_(previous_L), here_(vehicle_L.x_m, vehicle_L.y_m), route_length_(route.back().progress_m) {}
+
+std::vector<LocalGoal> ReachableGoals::Select(std::size_t max_count) {
+  std::vector<LocalGoal> goals;
+  if (!MakeGrid()) return goals;
+  ClassifyCells();
+  GrowBlocked();
+  CostToGo();
+  if (!Reach()) return goals;
+  Score();
+  AddRouteEndOrPrevious(&goals);
+  AddBestCells(max_count, &goals);
+  return goals;
+}
+
+// The grid covers the map and a border of unknown ground around it, at most kMaxCells a side.
+bool ReachableGoals::MakeGrid() {
+  bounds_ = map_.Bounds();
+  if (!(bounds_.max_x_m >= bounds_.min_x_m) || !(bounds_.max_y_m >= bounds_.min_y_m)) return false;
+  constexpr double kBorderM = 4.0;
+  constexpr int kMaxCells = 400;
+  cell_ = std::max(config_.cell_m, (std::max(bounds_.max_x_m - bounds_.min_x_m, bounds_.max_y_m - bounds_.min_y_m) +
+                                    2 * kBorderM) / (kMaxCells - 1));
+  x0_ = bounds_.min_x_m - kBorderM;
+  y0_ = bounds_.min_y_m - kBorderM;
+  nx_ = static_cast<int>((bounds_.max_x_m - bounds_.min_x_m + 2 * kBorderM) / cell_) + 1;
+  ny_ = static_cast<int>((bounds_.max_y_m - bounds_.min_y_m + 2 * kBorderM) / cell_) + 1;
+  return true;
+}
+
+bool ReachableGoals::CellOf(const Eigen::Vector2d& p, int* ix, int* iy) const {
+  *ix = static_cast<int>(std::floor((p.x() - x0_) / cell_));
+  *iy = static_cast<int>(std::floor((p.y() - y0_) / cell_));
+  return *ix >= 0 && *iy >= 0 && *ix < nx_ && *iy < ny_;
+}
+
+// Cells: known traversable, known non-traversable (blocked) or unknown, from the ground projection
+// of the cell's centre. Known ground with a map point over it in the vehicle's height band (above
+// the ground clearance, below the mast's top) is overhead-blocked: the vehicle cannot be there, so
+// neither the reach nor the cost to go passes under a roof too low for it. Known traversable comes
+// from the nearest visible point; known non-traversable only from a point in the cell, so that a
+// single steep vertex among sparse ground claims no cells around it.
+void ReachableGoals::ClassifyCells() {
+  VehicleBox column = vehicle_;
+  column.length_m = column.width_m = cell_;
+  column.centre_ahead_m = 0.0;
+  column.margin_m = 0.0;
+  column.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  state_.assign(static_cast<std::size_t>(nx_) * ny_, kUnknown);
+  for (int iy = 0; iy < ny_; ++iy) {
+    for (int ix = 0; ix < nx_; ++ix) {
+      const Eigen::Vector2d c = Centre(ix, iy);
+      if (!bounds_.Contains(c.x(), c.y())) continue;
+      const std::optional<GroundPose> g = map_.Project(Pose2{c.x(), c.y(), 0.0});
+      if (!g) continue;
+      if (g->traversable) {
+        if ((g->surface_point.head<2>() - c).norm() <= config_.reach_support_m) {
+          state_[Index(ix, iy)] = map_.CheckBox(*g, column) == PoseCheck::kCollision ? kOverhead : kFree;
+        }
+      } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell_) {
+        state_[Index(ix, iy)] = kBlocked;
+        blocking_.push_back(g->surface_point.head<2>());
+        blocking_cell_.push_back(Index(ix, iy));
+      }
+    }
+  }
+}
+
+// Cells the vehicle's centre cannot be in: within half its width and its margin of a
+// non-traversable point (measured from the point itself, not from its cell: growing whole cells
+// would close a lane between posts 2.7 m apart that the 1.5 m vehicle fits through). Overhead
+// cells do not grow: a single stray return over the ground (an outlier the buffer kept) then costs
+// a detour of one cell, not a vehicle's width.
+void ReachableGoals::GrowBlocked() {
+  blocked_.assign(state_.size(), 0);
+  const double half_width = 0.5 * vehicle_.width_m + vehicle_.margin_m;
+  const int grow = static_cast<int>(std::ceil(half_width / cell_)) + 1;
+  for (std::size_t k = 0; k < blocking_.size(); ++k) {
+    const int ix = static_cast<int>(blocking_cell_[k] % nx_), iy = static_cast<int>(blocking_cell_[k] / nx_);
+    for (int dy = -grow; dy <= grow; ++dy) {
+      for (int dx = -grow; dx <= grow; ++dx) {
+        const int jx = ix + dx, jy = iy + dy;
+        if (jx >= 0 && jy >= 0 && jx < nx_ && jy < ny_ && (Centre(jx, jy) - blocking_[k]).norm() <= half_width) {
+          blocked_[Index(jx, jy)] = 1;
+        }
+      }
+    }
+  }
+}
+
+// Dijkstra over the 8-connected grid from the seeded (finite) cells, through the cells `passable`
+// allows; unknown cells cost unknown_cost times their length.
+void ReachableGoals::Dijkstra(std::vector<double>* cost, const std::function<bool(std::size_t)>& passable) const {
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  for (std::size_t i = 0; i < cost->size(); ++i) {
+    if (std::isfinite((*cost)[i])) open.push({(*cost)[i], i});
+  }
+  static constexpr std::array<std::array<int, 2>, 8> kSteps = {
+      {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}}};
+  while (!open.empty()) {
+    const auto [c, i] = open.top();
+    open.pop();
+    if (c > (*cost)[i]) continue;
+    const int ix = static_cast<int>(i % nx_), iy = static_cast<int>(i / nx_);
+    for (const auto& step : kSteps) {
+      const int jx = ix + step[0], jy = iy + step[1];
+      if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) continue;
+      const std::size_t j = Index(jx, jy);
+      if (!passable(j)) continue;
+      const double next = c + cell_ * ((step[0] != 0 && step[1] != 0) ? std::sqrt(2.0) : 1.0) *
+                                  (state_[j] == kUnknown ? config_.unknown_cost : 1.0);
+      if (next < (*cost)[j]) {
+        (*cost)[j] = next;
+        open.push({next, j});
+      }
+    }
+  }
+}
+
+// Cost to go: from the last route point ahead inside the grid (where the route leaves the map, or
+// its end), its remaining route length; every other place counts its way to that point. Seeding
+// every route point with its remaining length instead would make the foot of a wall across the
+// route as good as the route beyond it. The cost to go goes round known non-traversable cells
+// themselves (optimistic, like unknown ground); the vehicle's reach keeps half its width from them.
+void ReachableGoals::CostToGo() {
+  to_go_.assign(state_.size(), kInf);
+  for (std::size_t i = end_; i-- > closest_;) {
+    int ix, iy;
+    if (!CellOf(route_[i].position, &ix, &iy) || Impassable(Index(ix, iy))) continue;
+    to_go_[Index(ix, iy)] = route_length_ - route_[i].progress_m;
+    break;
+  }
+  Dijkstra(&to_go_, [&](std::size_t j) { return !Impassable(j); });
+}
+
+// Reach: from the vehicle over known-traversable cells outside the grown blocked ones; the cells
+// within a vehicle's width of the vehicle are passable whatever they are (it stands there).
+// False when the vehicle is outside the grid.
+bool ReachableGoals::Reach() {
+  reach_.assign(state_.size(), kInf);
+  int vx, vy;
+  if (!CellOf(here_, &vx, &vy)) return false;
+  reach_[Index(vx, vy)] = 0.0;
+  Dijkstra(&reach_, [&](std::size_t j) {
+    if (state_[j] == kFree && !blocked_[j]) return true;
+    return !Impassable(j) && (CentreOf(j) - here_).norm() <= vehicle_.width_m;
+  });
+  return true;
+}
+
+bool ReachableGoals::Qualifies(const Pose2& pose, bool is_end) const {
+  if (!is_end && (Eigen::Vector2d(pose.x_m, pose.y_m) - here_).norm() < config_.min_distance_m) return false;
+  if (!map_.IsKnownFree(pose.x_m, pose.y_m)) return false;
+  return !config_.require_vehicle_fit || CheckPose(map_, vehicle_, pose) == PoseCheck::kValid;
+}
+
+double ReachableGoals::OffRoute(const Eigen::Vector2d& p) const {
+  double best = kInf;
+  for (const Eigen::Vector2d& r : route_ahead_) best = std::min(best, (r - p).squaredNorm());
+  return route_ahead_.empty() ? 0.0 : std::sqrt(best);
+}
+
+// Score of each reached cell: cost to go, plus reach_offset_penalty per metre away from the route
+// ahead (sampled every metre), plus previous_goal_penalty per metre from the previous goal.
+void ReachableGoals::Score() {
+  if (config_.reach_offset_penalty > 0.0) {
+    for (std::size_t i = closest_; i < end_; i += 4) route_ahead_.push_back(route_[i].position);
+    if (end_ > closest_) route_ahead_.push_back(route_[end_ - 1].position);
+  }
+  score_.assign(state_.size(), kInf);
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    if (!std::isfinite(reach_[i]) || !std::isfinite(to_go_[i])) continue;
+    const Eigen::Vector2d c = CentreOf(i);
+    score_[i] = to_go_[i] + config_.reach_offset_penalty * OffRoute(c);
+    if (previous_L_ && config_.previous_goal_penalty > 0.0) {
+      score_[i] += config_.previous_goal_penalty * (c - Eigen::Vector2d(previous_L_->pose.x_m, previous_L_->pose.y_m)).norm();
+    }
+    order_.push_back(i);
+  }
+  std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return score_[a] < score_[b]; });
+  best_score_ = order_.empty() ? kInf : score_[order_.front()];
+}
+
+double ReachableGoals::CostAt(const Eigen::Vector2d& p, const std::vector<double>& field) const {
+  int ix, iy;
+  return CellOf(p, &ix, &iy) ? field[Index(ix, iy)] : kInf;
+}
+
+// The route's end, when it is reached, and else the previous goal, when it is still nearly as good.
+void ReachableGoals::AddRouteEndOrPrevious(std::vector<LocalGoal>* goals) const {
+  if (route_.back().is_end && end_ == route_.size()) {
+    const RoutePoint& r = route_.back();
+    const Pose2 pose{r.position.x(), r.position.y(), r.yaw_rad};
+    if (std::isfinite(CostAt(r.position, reach_)) && Qualifies(pose, true)) goals->push_back({pose, r.progress_m, true});
+  }
+  if (goals->empty() && previous_L_ && config_.keep_previous_within_m > 0.0) {
+    const Eigen::Vector2d p(previous_L_->pose.x_m, previous_L_->pose.y_m);
+    if (std::isfinite(CostAt(p, reach_)) && CostAt(p, score_) <= best_score_ + config_.keep_previous_within_m &&
+        Qualifies(previous_L_->pose, previous_L_->is_route_end)) {
+      goals->push_back(*previous_L_);
+    }
+  }
+}
+
+// Only cells inside the known region, not on its rim: the rim of what is known is where sparse
+// ground comes and goes from one map update to the next. (Known, not reached: a lane between posts
+// may be one cell wide in the reach.)
+bool ReachableGoals::Interior(int ix, int iy, int rim) const {
+  for (int dy = -rim; dy <= rim; ++dy) {
+    for (int dx = -rim; dx <= rim; ++dx) {
+      const int jx = ix + dx, jy = iy + dy;
+      if (!(jx >= 0 && jy >= 0 && jx < nx_ && jy < ny_ && state_[Index(jx, jy)] != kUnknown)) return false;
+    }
+  }
+  return true;
+}
+
+// Heading: towards the cell with the least cost to go within `around` cells (a wide stencil, so
+// that the heading does not jump between the eight grid directions).
+double ReachableGoals::DownhillYaw(std::size_t i, int ix, int iy, int around) const {
+  double best = to_go_[i], yaw = vehicle_L_.yaw_rad;
+  for (int dy = -around; dy <= around; ++dy) {
+    for (int dx = -around; dx <= around; ++dx) {
+      const int jx = ix + dx, jy = iy + dy;
+      if ((dx == 0 && dy == 0) || jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_ || dx * dx + dy * dy > around * around) continue;
+      const double v = to_go_[Index(jx, jy)];
+      if (v < best) best = v, yaw = std::atan2(static_cast<double>(dy), static_cast<double>(dx));
+    }
+  }
+  return yaw;
+}
+
+// Candidates: reached cells by score, at least kMinSpacingM from each goal already taken, inside
+// the known region, each with the heading down the cost-to-go field; at most kMaxChecked tried.
+void ReachableGoals::AddBestCells(std::size_t max_count, std::vector<LocalGoal>* goals) const {
+  constexpr std::size_t kMaxChecked = 400;
+  constexpr double kMinSpacingM = 2.0;
+  constexpr double kInteriorM = 0.5;
+  constexpr double kHeadingM = 2.5;
+  const int rim = static_cast<int>(std::ceil(kInteriorM / cell_));
+  const int around = static_cast<int>(std::ceil(kHeadingM / cell_));
+  std::size_t checked = 0;
+  for (std::size_t i : order_) {
+    if (goals->size() >= max_count || checked >= kMaxChecked) break;
+    const int ix = static_cast<int>(i % nx_), iy = static_cast<int>(i / nx_);
+    const Eigen::Vector2d c = Centre(ix, iy);
+    if (std::any_of(goals->begin(), goals->end(), [&](const LocalGoal& g) {
+          return (Eigen::Vector2d(g.pose.x_m, g.pose.y_m) - c).norm() < kMinSpacingM;
+        })) {
+      continue;
+    }
+    if (!Interior(ix, iy, rim)) continue;
+    const double yaw = DownhillYaw(i, ix, iy, around);
+    ++checked;
+    const Pose2 pose{c.x(), c.y(), NormalizeYaw(yaw)};
+    if (Qualifies(pose, false)) goals->push_back({pose, std::max(0.0, route_length_ - to_go_[i]), false});
+  }
+}
+
+}  // namespace ovpc::planner::internal
