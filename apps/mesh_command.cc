@@ -67,8 +67,21 @@ void MakeParentDir(const std::string& path) {
 
 double Round3(double v) { return std::round(v * 1000.0) / 1000.0; }
 
-int RunMesh(const MeshOptions& o) {
-  const Vec3 viewpoint = ParseVector(o.viewpoint, "--viewpoint");
+// What one `ovpc mesh` computed: the cloud before and after the buffer stage, and the map.
+struct MeshRun {
+  Vec3 viewpoint;
+  OvpcMapper::Config config;
+  Points raw, points;
+  bool buffer = false;
+  BufferStats buffer_stats;
+  std::size_t non_finite_before_buffer = 0;
+  OvpcMap map;
+  MeshTopology topo;
+  double face_fraction = 0.0, point_fraction = 0.0;
+  std::size_t non_finite() const { return map.input.non_finite + non_finite_before_buffer; }
+};
+
+OvpcMapper::Config MapperConfig(const MeshOptions& o) {
   OvpcMapper::Config config;
   try {
     config.ghpr.kernel = ParseKernel(o.kernel);
@@ -81,144 +94,155 @@ int RunMesh(const MeshOptions& o) {
   if (o.bin_fields != 4 && o.bin_fields != 5) throw BadInput("--bin-fields must be 4 or 5");
   if (!(o.min_range_m >= 1e-5) || !(o.min_range_m <= 1e3)) throw BadInput("--min-range must be in [1e-5, 1000] m");
   config.min_range_m = o.min_range_m;
+  return config;
+}
 
-  Points raw;
+// Optional buffer stage: drop NaN/inf, voxel filter with a hit threshold, subsample.
+void BufferStage(const MeshOptions& o, MeshRun* run) {
+  run->points = run->raw;
+  run->buffer = o.voxel_opt->count() > 0 || o.min_hits_opt->count() > 0 || o.max_points > 0;
+  if (!run->buffer) return;
+  Points finite;
+  finite.reserve(run->raw.size());
+  for (const Vec3& p : run->raw) {
+    if (p.allFinite()) finite.push_back(p); else ++run->non_finite_before_buffer;
+  }
+  const double voxel = o.voxel_opt->count() > 0 ? o.voxel_m : PointCloudBuffer::Config{}.voxel_size_m;
+  const int min_hits = o.min_hits_opt->count() > 0 ? o.min_hits : PointCloudBuffer::Config{}.min_hits;
+  if (min_hits < 1) throw BadInput("--min-hits must be >= 1");
+  if (!(voxel >= 0.0)) throw BadInput("--voxel must be >= 0 (0 disables the voxel filter)");
+  run->points = VoxelFilter(finite, voxel, min_hits, &run->buffer_stats);
+  if (o.max_points > 0) run->points = Subsample(run->points, static_cast<std::size_t>(o.max_points), 1, &run->buffer_stats);
+}
+
+// Gamma: the paper's -0.03 for the exponential kernel; 100 x the cloud's extent for the linear one.
+double DefaultGamma(const MeshRun& run) {
+  if (run.config.ghpr.kernel == GhprKernel::kExponential) return -0.03;
+  double max_d = 0.0;
+  for (const Vec3& p : run.points) {
+    if (p.allFinite()) max_d = std::max(max_d, (p - run.viewpoint).norm());
+  }
+  return 100.0 * std::max(max_d, 1.0);
+}
+
+// Reads the cloud, runs the buffer stage and the mapper; bad input as BadInput.
+MeshRun Compute(const MeshOptions& o) {
+  MeshRun run;
+  run.viewpoint = ParseVector(o.viewpoint, "--viewpoint");
+  run.config = MapperConfig(o);
   try {
-    raw = ReadCloud(o.cloud_path, CloudFormat::kAuto, o.bin_fields);
+    run.raw = ReadCloud(o.cloud_path, CloudFormat::kAuto, o.bin_fields);
   } catch (const CloudIoError& e) {
     throw BadInput(e.what());
   }
-
-  // Optional buffer stage: drop NaN/inf, voxel filter with a hit threshold, subsample.
-  Points points = raw;
-  BufferStats buffer_stats;
-  std::size_t non_finite_before_buffer = 0;
-  const bool buffer = o.voxel_opt->count() > 0 || o.min_hits_opt->count() > 0 || o.max_points > 0;
-  if (buffer) {
-    Points finite;
-    finite.reserve(raw.size());
-    for (const Vec3& p : raw) {
-      if (p.allFinite()) finite.push_back(p); else ++non_finite_before_buffer;
-    }
-    const double voxel = o.voxel_opt->count() > 0 ? o.voxel_m : PointCloudBuffer::Config{}.voxel_size_m;
-    const int min_hits = o.min_hits_opt->count() > 0 ? o.min_hits : PointCloudBuffer::Config{}.min_hits;
-    if (min_hits < 1) throw BadInput("--min-hits must be >= 1");
-    if (!(voxel >= 0.0)) throw BadInput("--voxel must be >= 0 (0 disables the voxel filter)");
-    points = VoxelFilter(finite, voxel, min_hits, &buffer_stats);
-    if (o.max_points > 0) points = Subsample(points, static_cast<std::size_t>(o.max_points), 1, &buffer_stats);
-  }
-
-  // Gamma: the paper's -0.03 for the exponential kernel; 100 x the cloud's extent for the linear one.
-  config.ghpr.gamma = o.gamma;
-  if (o.gamma_opt->count() == 0) {
-    if (config.ghpr.kernel == GhprKernel::kExponential) {
-      config.ghpr.gamma = -0.03;
-    } else {
-      double max_d = 0.0;
-      for (const Vec3& p : points) {
-        if (p.allFinite()) max_d = std::max(max_d, (p - viewpoint).norm());
-      }
-      config.ghpr.gamma = 100.0 * std::max(max_d, 1.0);
-    }
-  }
+  BufferStage(o, &run);
+  run.config.ghpr.gamma = o.gamma_opt->count() == 0 ? DefaultGamma(run) : o.gamma;
   try {
-    config.Validate();
+    run.config.Validate();
   } catch (const std::invalid_argument& e) {
     throw BadInput(e.what());
   }
-
-  const OvpcMap map = OvpcMapper(config).Update(points, viewpoint);
-  if (!map.ok()) {
+  run.map = OvpcMapper(run.config).Update(run.points, run.viewpoint);
+  if (!run.map.ok()) {
     std::ostringstream msg;
-    msg << o.cloud_path << ": " << map.message;
-    if (map.input.non_finite + map.input.at_viewpoint + map.input.too_far > 0) {
-      msg << " (" << map.input.non_finite + non_finite_before_buffer << " NaN/inf, " << map.input.at_viewpoint
-          << " viewpoint and " << map.input.too_far << " beyond 1e12 m points dropped)";
+    msg << o.cloud_path << ": " << run.map.message;
+    if (run.map.input.non_finite + run.map.input.at_viewpoint + run.map.input.too_far > 0) {
+      msg << " (" << run.non_finite() << " NaN/inf, " << run.map.input.at_viewpoint << " viewpoint and "
+          << run.map.input.too_far << " beyond 1e12 m points dropped)";
     }
     throw BadInput(msg.str());
   }
-
-  const MeshTopology topo = CheckTopology(map.mesh.triangles);
+  run.topo = CheckTopology(run.map.mesh.triangles);
   std::size_t trav_faces = 0, trav_points = 0;
-  for (auto t : map.mesh.face_traversable) trav_faces += t;
-  for (auto t : map.cloud.traversable()) trav_points += t;
-  const double face_fraction = map.mesh.triangles.empty() ? 0.0 : double(trav_faces) / map.mesh.triangles.size();
-  const double point_fraction = map.cloud.empty() ? 0.0 : double(trav_points) / map.cloud.size();
+  for (auto t : run.map.mesh.face_traversable) trav_faces += t;
+  for (auto t : run.map.cloud.traversable()) trav_points += t;
+  run.face_fraction = run.map.mesh.triangles.empty() ? 0.0 : double(trav_faces) / run.map.mesh.triangles.size();
+  run.point_fraction = run.map.cloud.empty() ? 0.0 : double(trav_points) / run.map.cloud.size();
+  return run;
+}
 
-  const std::size_t non_finite = map.input.non_finite + non_finite_before_buffer;
-  if (!o.quiet) {
-    std::printf("cloud              %s\n", o.cloud_path.c_str());
-    std::printf("input points       %zu\n", raw.size());
-    std::printf("dropped            %zu NaN/inf, %zu at the viewpoint, %zu beyond 1e12 m\n", non_finite,
-                map.input.at_viewpoint, map.input.too_far);
-    if (buffer) {
-      std::printf("buffer stage       %zu voxels kept, %zu points in sparse voxels dropped, %zu subsampled out\n",
-                  buffer_stats.voxels_kept, buffer_stats.voxel_sparse, buffer_stats.subsampled_out);
-    }
-    std::printf("points used        %zu\n", map.input.used);
-    std::printf("visible points     %zu (%.1f %%)\n", map.cloud.size(), 100.0 * map.cloud.size() / std::max<std::size_t>(1, map.input.used));
-    std::printf("faces              %zu (%s kernel, gamma %g; viewpoint %s the hull)\n", map.mesh.triangles.size(),
-                KernelName(config.ghpr.kernel), config.ghpr.gamma, map.mesh.viewpoint_vertex >= 0 ? "on" : "inside");
-    std::printf("watertight         %s (V %zu, E %zu, F %zu, chi %d)\n", topo.watertight() ? "yes" : "NO",
-                topo.num_vertices, topo.num_edges, topo.num_faces, topo.euler_characteristic);
-    std::printf("enclosed volume    %.1f m^3\n", EnclosedVolume(map.mesh.vertices, map.mesh.triangles));
-    std::printf("traversable        %.1f %% of faces, %.1f %% of points\n", 100.0 * face_fraction, 100.0 * point_fraction);
-    const StageTimings& t = map.timings;
-    std::printf("time [ms]          total %.2f = sanitize %.2f + transform %.2f + hull %.2f + mesh %.2f + "
-                "traversability %.2f + vertex cloud %.2f\n",
-                t.total_ms, t.sanitize_ms, t.transform_ms, t.hull_ms, t.mesh_ms, t.traversability_ms, t.vertex_cloud_ms);
+void PrintSummary(const MeshOptions& o, const MeshRun& run) {
+  const OvpcMap& map = run.map;
+  std::printf("cloud              %s\n", o.cloud_path.c_str());
+  std::printf("input points       %zu\n", run.raw.size());
+  std::printf("dropped            %zu NaN/inf, %zu at the viewpoint, %zu beyond 1e12 m\n", run.non_finite(),
+              map.input.at_viewpoint, map.input.too_far);
+  if (run.buffer) {
+    std::printf("buffer stage       %zu voxels kept, %zu points in sparse voxels dropped, %zu subsampled out\n",
+                run.buffer_stats.voxels_kept, run.buffer_stats.voxel_sparse, run.buffer_stats.subsampled_out);
   }
+  std::printf("points used        %zu\n", map.input.used);
+  std::printf("visible points     %zu (%.1f %%)\n", map.cloud.size(), 100.0 * map.cloud.size() / std::max<std::size_t>(1, map.input.used));
+  std::printf("faces              %zu (%s kernel, gamma %g; viewpoint %s the hull)\n", map.mesh.triangles.size(),
+              KernelName(run.config.ghpr.kernel), run.config.ghpr.gamma, map.mesh.viewpoint_vertex >= 0 ? "on" : "inside");
+  std::printf("watertight         %s (V %zu, E %zu, F %zu, chi %d)\n", run.topo.watertight() ? "yes" : "NO",
+              run.topo.num_vertices, run.topo.num_edges, run.topo.num_faces, run.topo.euler_characteristic);
+  std::printf("enclosed volume    %.1f m^3\n", EnclosedVolume(map.mesh.vertices, map.mesh.triangles));
+  std::printf("traversable        %.1f %% of faces, %.1f %% of points\n", 100.0 * run.face_fraction, 100.0 * run.point_fraction);
+  const StageTimings& t = map.timings;
+  std::printf("time [ms]          total %.2f = sanitize %.2f + transform %.2f + hull %.2f + mesh %.2f + "
+              "traversability %.2f + vertex cloud %.2f\n",
+              t.total_ms, t.sanitize_ms, t.transform_ms, t.hull_ms, t.mesh_ms, t.traversability_ms, t.vertex_cloud_ms);
+}
 
+nlohmann::json StatsJson(const MeshOptions& o, const MeshRun& run) {
+  const OvpcMap& map = run.map;
+  const StageTimings& t = map.timings;
+  nlohmann::json j = {
+      {"cloud", o.cloud_path},
+      {"viewpoint", {run.viewpoint.x(), run.viewpoint.y(), run.viewpoint.z()}},
+      {"kernel", KernelName(run.config.ghpr.kernel)},
+      {"gamma", run.config.ghpr.gamma},
+      {"alpha_max_deg", o.alpha_max_deg},
+      {"dh_max_m", o.dh_max_m},
+      {"input_points", run.raw.size()},
+      {"dropped_non_finite", run.non_finite()},
+      {"dropped_at_viewpoint", map.input.at_viewpoint},
+      {"dropped_too_far", map.input.too_far},
+      {"points_after_filtering", map.input.used},
+      {"visible_points", map.cloud.size()},
+      {"faces", map.mesh.triangles.size()},
+      {"viewpoint_on_hull", map.mesh.viewpoint_vertex >= 0},
+      {"watertight", run.topo.watertight()},
+      {"euler_characteristic", run.topo.euler_characteristic},
+      {"enclosed_volume_m3", EnclosedVolume(map.mesh.vertices, map.mesh.triangles)},
+      {"traversable_face_fraction", run.face_fraction},
+      {"traversable_point_fraction", run.point_fraction},
+      {"ms", {{"sanitize", Round3(t.sanitize_ms)}, {"transform", Round3(t.transform_ms)},
+              {"hull", Round3(t.hull_ms)}, {"mesh", Round3(t.mesh_ms)},
+              {"traversability", Round3(t.traversability_ms)}, {"vertex_cloud", Round3(t.vertex_cloud_ms)},
+              {"total", Round3(t.total_ms)}}},
+  };
+  if (run.buffer) {
+    j["buffer"] = {{"voxels_kept", run.buffer_stats.voxels_kept},
+                   {"dropped_sparse_voxels", run.buffer_stats.voxel_sparse},
+                   {"subsampled_out", run.buffer_stats.subsampled_out}};
+  }
+  return j;
+}
+
+int RunMesh(const MeshOptions& o) {
+  const MeshRun run = Compute(o);
+  if (!o.quiet) PrintSummary(o, run);
   for (const std::string* out : {&o.out_mesh, &o.out_points, &o.out_json}) {
     if (!out->empty()) MakeParentDir(*out);
   }
   if (!o.out_mesh.empty()) {
-    WriteMeshPly(o.out_mesh, map.mesh, map.cloud.normals());
+    WriteMeshPly(o.out_mesh, run.map.mesh, run.map.cloud.normals());
     if (!o.quiet) std::printf("wrote mesh         %s\n", o.out_mesh.c_str());
   }
   if (!o.out_points.empty()) {
-    WriteTraversabilityCloudPly(o.out_points, map.cloud);
+    WriteTraversabilityCloudPly(o.out_points, run.map.cloud);
     if (!o.quiet) std::printf("wrote points       %s\n", o.out_points.c_str());
   }
   if (!o.out_json.empty()) {
-    const StageTimings& t = map.timings;
-    nlohmann::json j = {
-        {"cloud", o.cloud_path},
-        {"viewpoint", {viewpoint.x(), viewpoint.y(), viewpoint.z()}},
-        {"kernel", KernelName(config.ghpr.kernel)},
-        {"gamma", config.ghpr.gamma},
-        {"alpha_max_deg", o.alpha_max_deg},
-        {"dh_max_m", o.dh_max_m},
-        {"input_points", raw.size()},
-        {"dropped_non_finite", non_finite},
-        {"dropped_at_viewpoint", map.input.at_viewpoint},
-        {"dropped_too_far", map.input.too_far},
-        {"points_after_filtering", map.input.used},
-        {"visible_points", map.cloud.size()},
-        {"faces", map.mesh.triangles.size()},
-        {"viewpoint_on_hull", map.mesh.viewpoint_vertex >= 0},
-        {"watertight", topo.watertight()},
-        {"euler_characteristic", topo.euler_characteristic},
-        {"enclosed_volume_m3", EnclosedVolume(map.mesh.vertices, map.mesh.triangles)},
-        {"traversable_face_fraction", face_fraction},
-        {"traversable_point_fraction", point_fraction},
-        {"ms", {{"sanitize", Round3(t.sanitize_ms)}, {"transform", Round3(t.transform_ms)},
-                {"hull", Round3(t.hull_ms)}, {"mesh", Round3(t.mesh_ms)},
-                {"traversability", Round3(t.traversability_ms)}, {"vertex_cloud", Round3(t.vertex_cloud_ms)},
-                {"total", Round3(t.total_ms)}}},
-    };
-    if (buffer) {
-      j["buffer"] = {{"voxels_kept", buffer_stats.voxels_kept},
-                     {"dropped_sparse_voxels", buffer_stats.voxel_sparse},
-                     {"subsampled_out", buffer_stats.subsampled_out}};
-    }
     std::ofstream out(o.out_json);
     if (!out) throw CloudIoError(o.out_json + ": cannot open for writing");
-    out << j.dump(2) << "\n";
+    out << StatsJson(o, run).dump(2) << "\n";
     if (!out) throw CloudIoError(o.out_json + ": write failed");
     if (!o.quiet) std::printf("wrote stats        %s\n", o.out_json.c_str());
   }
-  return topo.watertight() ? kExitOk : kExitFailure;
+  return run.topo.watertight() ? kExitOk : kExitFailure;
 }
 
 }  // namespace

@@ -13,22 +13,76 @@
 #include "ovpc/scenarios/scenario_yaml.h"
 
 namespace ovpc::apps {
+namespace {
+
+struct RunOptions {
+  std::string scenario;
+  std::uint64_t seed = 0;
+  CLI::Option* seed_opt = nullptr;
+  std::string out = "out/run";
+  std::vector<std::string> settings;
+  std::string preset;
+  std::string map;
+  bool map_given = false;
+  bool print_config = false;
+  bool frames = false;
+  bool quiet = false;
+  int threads = 2;
+};
+
+int RunScenario(const RunOptions& o) {
+  std::vector<std::string> settings = o.settings;
+  if (o.map_given) settings.push_back(MapSetting(o.map));
+  scenarios::Scenario scenario;
+  try {
+    const scenarios::Preset preset = o.preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o.preset);
+    scenario = scenarios::LoadScenario(o.scenario, settings, preset);
+  } catch (const scenarios::ScenarioError& e) {
+    throw BadInput(e.what());
+  }
+  const std::uint64_t seed = o.seed_opt->count() ? o.seed : scenario.seed;
+  if (o.print_config) {
+    std::cout << scenarios::FormatRunConfig(scenario, seed);
+    return kExitOk;
+  }
+  scenarios::RunOptions options;
+  options.out_dir = o.out;
+  options.frames = o.frames;
+  options.progress = !o.quiet;
+  options.threads = o.threads;
+  // The folder is made, writable and ours alone before the simulation starts.
+  const suite::FolderLock lock(o.out);
+  const std::filesystem::path dir(o.out);
+  // result.json marks a complete run: gone while the run goes on, written last by a rename.
+  std::filesystem::remove(dir / "result.json");
+  const scenarios::RunResult result = scenarios::RunClosedLoop(scenario, seed, options);
+  std::cout << scenarios::FormatScorecard(scenario, result);
+  // The trajectory and result.json are the run's result: a failed write ends the run without a
+  // result.json (the suite reports it as an error). The plan and cycle logs and the picture are
+  // diagnostics: a failed write is a warning.
+  scenarios::WriteTrajectoryCsv(result, (dir / "trajectory.csv").string());
+  const auto diagnostic = [](const auto& write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      std::cerr << "ovpc: warning: " << e.what() << "\n";
+    }
+  };
+  diagnostic([&] { scenarios::WritePlansCsv(result, (dir / "plans.csv").string()); });
+  diagnostic([&] { scenarios::WriteCyclesCsv(result, (dir / "cycles.csv").string()); });
+  diagnostic([&] { scenarios::WriteTopdownPng(scenario, result, (dir / "topdown.png").string()); });
+  scenarios::WriteResultJson(scenario, result, (dir / "result.json.part").string());
+  std::filesystem::rename(dir / "result.json.part", dir / "result.json");
+  std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, cycles.csv, topdown.png";
+  if (!result.files.empty()) std::cout << " and " << result.files.size() << " snapshot/frame files";
+  std::cout << "\n";
+  return result.passed ? kExitOk : kExitFailure;
+}
+
+}  // namespace
 
 Runner RegisterRun(CLI::App& app) {
-  struct Options {
-    std::string scenario;
-    std::uint64_t seed = 0;
-    CLI::Option* seed_opt = nullptr;
-    std::string out = "out/run";
-    std::vector<std::string> settings;
-    std::string preset;
-    std::string map;
-    bool print_config = false;
-    bool frames = false;
-    bool quiet = false;
-    int threads = 2;
-  };
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "Run one scenario in closed loop (headless) and score it");
   cmd->footer(
       "Writes DIR/result.json, DIR/trajectory.csv, DIR/plans.csv, DIR/cycles.csv, DIR/topdown.png and DIR/mesh_*.ply (and frame_*.png with\n"
@@ -55,52 +109,8 @@ Runner RegisterRun(CLI::App& app) {
       ->check(CLI::Range(1, 2))
       ->capture_default_str();
   return [o, map_opt]() {
-    std::vector<std::string> settings = o->settings;
-    if (map_opt->count() > 0) settings.push_back(MapSetting(o->map));
-    scenarios::Scenario scenario;
-    try {
-      const scenarios::Preset preset = o->preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o->preset);
-      scenario = scenarios::LoadScenario(o->scenario, settings, preset);
-    } catch (const scenarios::ScenarioError& e) {
-      throw BadInput(e.what());
-    }
-    const std::uint64_t seed = o->seed_opt->count() ? o->seed : scenario.seed;
-    if (o->print_config) {
-      std::cout << scenarios::FormatRunConfig(scenario, seed);
-      return kExitOk;
-    }
-    scenarios::RunOptions options;
-    options.out_dir = o->out;
-    options.frames = o->frames;
-    options.progress = !o->quiet;
-    options.threads = o->threads;
-    // The folder is made, writable and ours alone before the simulation starts.
-    const suite::FolderLock lock(o->out);
-    const std::filesystem::path dir(o->out);
-    // result.json marks a complete run: gone while the run goes on, written last by a rename.
-    std::filesystem::remove(dir / "result.json");
-    const scenarios::RunResult result = scenarios::RunClosedLoop(scenario, seed, options);
-    std::cout << scenarios::FormatScorecard(scenario, result);
-    // The trajectory and result.json are the run's result: a failed write ends the run without a
-    // result.json (the suite reports it as an error). The plan and cycle logs and the picture are
-    // diagnostics: a failed write is a warning.
-    scenarios::WriteTrajectoryCsv(result, (dir / "trajectory.csv").string());
-    const auto diagnostic = [](const auto& write) {
-      try {
-        write();
-      } catch (const std::exception& e) {
-        std::cerr << "ovpc: warning: " << e.what() << "\n";
-      }
-    };
-    diagnostic([&] { scenarios::WritePlansCsv(result, (dir / "plans.csv").string()); });
-    diagnostic([&] { scenarios::WriteCyclesCsv(result, (dir / "cycles.csv").string()); });
-    diagnostic([&] { scenarios::WriteTopdownPng(scenario, result, (dir / "topdown.png").string()); });
-    scenarios::WriteResultJson(scenario, result, (dir / "result.json.part").string());
-    std::filesystem::rename(dir / "result.json.part", dir / "result.json");
-    std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, cycles.csv, topdown.png";
-    if (!result.files.empty()) std::cout << " and " << result.files.size() << " snapshot/frame files";
-    std::cout << "\n";
-    return result.passed ? kExitOk : kExitFailure;
+    o->map_given = map_opt->count() > 0;
+    return RunScenario(*o);
   };
 }
 
