@@ -127,6 +127,64 @@ bool FastHullWithoutDuplicates(const Points& images, Scratch* s, std::vector<int
   return true;
 }
 
+// Image set: F(p) = p / d * f(d) with p relative to the viewpoint; the viewpoint (origin) last.
+// Returns the farthest point's distance. @throws std::invalid_argument for a point that is not
+// finite, farther than 1e12 m or at the viewpoint.
+double TransformToImages(const Points& points, const Vec3& viewpoint, const Ghpr::Config& config, Points* images) {
+  const std::size_t n = points.size();
+  images->resize(n + 1);
+  double max_d = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!points[i].allFinite()) throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is not finite");
+    const Vec3 rel = points[i] - viewpoint;
+    if (!(rel.cwiseAbs().maxCoeff() <= kGhprMaxDistanceM)) {
+      throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is farther than 1e12 m from the viewpoint");
+    }
+    const double d = rel.norm();
+    if (!(d >= kMinDistanceM)) {
+      throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is at the viewpoint");
+    }
+    max_d = std::max(max_d, d);
+    const double scale = config.kernel == GhprKernel::kExponential ? std::pow(d, config.gamma - 1.0)
+                                                                   : (config.gamma - d) / d;
+    (*images)[i] = rel * scale;
+  }
+  (*images)[n] = Vec3::Zero();
+  return max_d;
+}
+
+// The mesh from the hull of the images (scratch->hull_vertices, ascending, and hull_faces, outward).
+void BuildMesh(const Points& points, const Vec3& viewpoint, Scratch* scratch, GhprResult* result) {
+  const std::size_t n = points.size();
+  const std::vector<int>& hull_vertices = scratch->hull_vertices;
+  // Mesh vertices: the visible points in ascending input order, then the viewpoint if on the hull.
+  std::vector<int>& mesh_index_of_image = scratch->mesh_index;
+  mesh_index_of_image.assign(n + 1, -1);
+  FreeSpaceMesh& mesh = result->mesh;
+  mesh.vertices.reserve(hull_vertices.size());
+  mesh.source_index.reserve(hull_vertices.size());
+  for (int image : hull_vertices) {
+    if (image == static_cast<int>(n)) continue;
+    mesh_index_of_image[image] = static_cast<int>(mesh.vertices.size());
+    mesh.vertices.push_back(points[image]);
+    mesh.source_index.push_back(image);
+  }
+  result->viewpoint_on_hull = !hull_vertices.empty() && hull_vertices.back() == static_cast<int>(n);
+  if (result->viewpoint_on_hull) {
+    mesh.viewpoint_vertex = static_cast<int>(mesh.vertices.size());
+    mesh_index_of_image[n] = mesh.viewpoint_vertex;
+    mesh.vertices.push_back(viewpoint);
+    mesh.source_index.push_back(-1);
+  }
+  // The hull's faces are oriented outwards in image space. The map is radial, so the original
+  // triangles keep their orientation as seen from the viewpoint; reversing them makes the normals
+  // point into the enclosed free space.
+  mesh.triangles.reserve(scratch->hull_faces.size());
+  for (const auto& f : scratch->hull_faces) {
+    mesh.triangles.push_back({mesh_index_of_image[f[0]], mesh_index_of_image[f[2]], mesh_index_of_image[f[1]]});
+  }
+}
+
 }  // namespace
 
 void Ghpr::Config::Validate() const {
@@ -185,28 +243,10 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
   }
 
   auto t = Clock::now();
-  // Image set: F(p) = p / d * f(d) with p relative to the viewpoint; the viewpoint (origin) last.
   // Buffers live per thread and are reused, so a steady stream of clouds allocates nothing new.
   thread_local Scratch scratch;
   Points& images = scratch.images;
-  images.resize(n + 1);
-  double max_d = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!points[i].allFinite()) throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is not finite");
-    const Vec3 rel = points[i] - viewpoint;
-    if (!(rel.cwiseAbs().maxCoeff() <= kGhprMaxDistanceM)) {
-      throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is farther than 1e12 m from the viewpoint");
-    }
-    const double d = rel.norm();
-    if (!(d >= kMinDistanceM)) {
-      throw std::invalid_argument("ComputeGhpr: point " + std::to_string(i) + " is at the viewpoint");
-    }
-    max_d = std::max(max_d, d);
-    const double scale = config.kernel == GhprKernel::kExponential ? std::pow(d, config.gamma - 1.0)
-                                                                   : (config.gamma - d) / d;
-    images[i] = rel * scale;
-  }
-  images[n] = Vec3::Zero();
+  const double max_d = TransformToImages(points, viewpoint, config, &images);
   if (config.kernel == GhprKernel::kLinear && !(config.gamma > max_d)) {
     std::ostringstream msg;
     msg << "linear kernel needs gamma > the farthest point's distance (" << max_d << " m), got "
@@ -246,32 +286,7 @@ GhprResult ComputeGhpr(const Points& points, const Vec3& viewpoint, const Ghpr::
   result.hull_ms = MsSince(t);
   t = Clock::now();
 
-  // Mesh vertices: the visible points in ascending input order, then the viewpoint if on the hull.
-  std::vector<int>& mesh_index_of_image = scratch.mesh_index;
-  mesh_index_of_image.assign(n + 1, -1);
-  FreeSpaceMesh& mesh = result.mesh;
-  mesh.vertices.reserve(hull_vertices.size());
-  mesh.source_index.reserve(hull_vertices.size());
-  for (int image : hull_vertices) {
-    if (image == static_cast<int>(n)) continue;
-    mesh_index_of_image[image] = static_cast<int>(mesh.vertices.size());
-    mesh.vertices.push_back(points[image]);
-    mesh.source_index.push_back(image);
-  }
-  result.viewpoint_on_hull = !hull_vertices.empty() && hull_vertices.back() == static_cast<int>(n);
-  if (result.viewpoint_on_hull) {
-    mesh.viewpoint_vertex = static_cast<int>(mesh.vertices.size());
-    mesh_index_of_image[n] = mesh.viewpoint_vertex;
-    mesh.vertices.push_back(viewpoint);
-    mesh.source_index.push_back(-1);
-  }
-  // The hull's faces are oriented outwards in image space. The map is radial, so the original
-  // triangles keep their orientation as seen from the viewpoint; reversing them makes the normals
-  // point into the enclosed free space.
-  mesh.triangles.reserve(hull_faces.size());
-  for (const auto& f : hull_faces) {
-    mesh.triangles.push_back({mesh_index_of_image[f[0]], mesh_index_of_image[f[2]], mesh_index_of_image[f[1]]});
-  }
+  BuildMesh(points, viewpoint, &scratch, &result);
   result.mesh_ms = MsSince(t);
   result.status = GhprStatus::kOk;
   return result;
