@@ -191,36 +191,16 @@ std::string GatorDefaultsXml(const GatorParams& p) {
   return s.str();
 }
 
-std::string GatorBodyXml(const GatorParams& p, const Eigen::Isometry3d& T_W_B) {
-  p.Validate();
-  namespace n = gator_names;
+namespace {
+
+// Collision shapes of the body, all named body_*: frame between the wheels, deck over them,
+// roll-over frame, mast; and the seats and hood, for the pictures only.
+std::string ChassisShapesXml(const GatorParams& p) {
   const double r = p.wheel_radius_m;
   const double half_track = 0.5 * p.track_m;
   const double half_width = 0.5 * p.width_m;
   const double front_x = p.length_m - p.rear_overhang_m;
-  const double chassis_mass = ChassisMass(p);
-  const double front_load_n = chassis_mass * kGravity_mps2 * (p.cg_x_m / p.wheelbase_m) / 2.0;
-  const double rear_load_n = chassis_mass * kGravity_mps2 - 2.0 * front_load_n;
-  const double knuckle_mass = kKnuckleMassFraction * p.wheel_mass_kg;
-  const double spin_mass = p.wheel_mass_kg - knuckle_mass;
-  const double knuckle_range = KnuckleRangeRad(p);
-  const Vec3 spin_inertia = WheelInertia(spin_mass, r, p.wheel_width_m);
-  // Steering: damping for the chosen ratio with the knuckle, wheel and armature inertia.
-  const double steer_inertia = spin_inertia.z() + knuckle_mass * 0.01 + kSteerArmature_kgm2;
-  const double steer_damping =
-      2.0 * kSteerDampingRatio * std::sqrt(p.steer_gain_nm_per_rad * steer_inertia);
-  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(p.lidar.tilt_rad, Vec3::UnitX()));
-  const Eigen::Quaterniond q_W_B(T_W_B.linear());
-
   std::ostringstream s;
-  s << "<body name=\"" << n::kChassis << "\" pos=\"" << Vec(T_W_B.translation()) << "\" quat=\""
-    << Quat(q_W_B) << "\">\n"
-    << "<freejoint name=\"chassis_free\"/>\n"
-    << Inertial(Vec3(p.cg_x_m, 0.0, p.cg_z_m), chassis_mass,
-                BoxInertia(chassis_mass, p.length_m, p.width_m, p.body_top_m))
-    << "\n";
-  // Collision shapes of the body, all named body_*: frame between the wheels, deck over them,
-  // roll-over frame, mast.
   const double deck_bottom = 2.0 * r + p.suspension_travel_m + 0.02;
   const double frame_half_y = half_track - 0.5 * p.wheel_width_m - 0.03;
   s << BoxGeom("body_frame", Vec3(-p.rear_overhang_m, -frame_half_y, p.ground_clearance_m),
@@ -249,13 +229,18 @@ std::string GatorBodyXml(const GatorParams& p, const Eigen::Isometry3d& T_W_B) {
   s << "<geom name=\"body_mast\" class=\"gator\" type=\"cylinder\" fromto=\"0 0 "
     << Num(p.body_top_m) << " 0 0 " << Num(p.lidar.height_m - kLidarRadius_m - 0.01)
     << "\" size=\"" << Num(kMastRadius_m) << "\" rgba=\"" << kFrameRgba << "\"/>\n";
-  // Seats and hood, for the pictures only.
   s << BoxGeom("", Vec3(p.rops_rear_x_m + 0.05, -half_width + 0.15, p.body_top_m),
                Vec3(p.rops_rear_x_m + 0.5, half_width - 0.15, p.body_top_m + 0.35),
                "0.95 0.8 0.1 1", "gator_visual")
     << "\n";
+  return s.str();
+}
 
-  // The spinning LiDAR base; the simulator sets its angle from the mount's clock every step.
+// The spinning LiDAR base; the simulator sets its angle from the mount's clock every step.
+std::string LidarBaseXml(const GatorParams& p) {
+  namespace n = gator_names;
+  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(p.lidar.tilt_rad, Vec3::UnitX()));
+  std::ostringstream s;
   s << "<body name=\"" << n::kLidarBase << "\" pos=\"0 0 " << Num(p.lidar.height_m) << "\">\n"
     << "<joint name=\"" << n::kLidarSpin << "\" type=\"hinge\" axis=\"0 0 1\"/>\n"
     << Inertial(Vec3::Zero(), kLidarBaseMass_kg, Vec3(0.01, 0.01, 0.01)) << "\n"
@@ -264,9 +249,26 @@ std::string GatorBodyXml(const GatorParams& p, const Eigen::Isometry3d& T_W_B) {
     << "\" rgba=\"" << kLidarRgba << "\"/>\n"
     << "<site name=\"" << n::kLidarSite << "\" quat=\"" << Quat(tilt) << "\" size=\"0.02\"/>\n"
     << "</body>\n";
+  return s.str();
+}
 
-  // Wheels. Rear: suspension slide + driven axle. Front: suspension slide + steering knuckle,
-  // then a free-rolling wheel.
+// Wheels. Rear: suspension slide + driven axle. Front: suspension slide + steering knuckle, then a
+// free-rolling wheel. Each suspension carries its share of the chassis's weight.
+std::string WheelBodiesXml(const GatorParams& p) {
+  namespace n = gator_names;
+  const double r = p.wheel_radius_m;
+  const double half_track = 0.5 * p.track_m;
+  const double chassis_mass = ChassisMass(p);
+  const double front_load_n = chassis_mass * kGravity_mps2 * (p.cg_x_m / p.wheelbase_m) / 2.0;
+  const double rear_load_n = chassis_mass * kGravity_mps2 - 2.0 * front_load_n;
+  const double knuckle_mass = kKnuckleMassFraction * p.wheel_mass_kg;
+  const double spin_mass = p.wheel_mass_kg - knuckle_mass;
+  const double knuckle_range = KnuckleRangeRad(p);
+  const Vec3 spin_inertia = WheelInertia(spin_mass, r, p.wheel_width_m);
+  // Steering: damping for the chosen ratio with the knuckle, wheel and armature inertia.
+  const double steer_inertia = spin_inertia.z() + knuckle_mass * 0.01 + kSteerArmature_kgm2;
+  const double steer_damping =
+      2.0 * kSteerDampingRatio * std::sqrt(p.steer_gain_nm_per_rad * steer_inertia);
   struct Side {
     const char* name;
     double sign;
@@ -275,6 +277,7 @@ std::string GatorBodyXml(const GatorParams& p, const Eigen::Isometry3d& T_W_B) {
   };
   const Side sides[2] = {{"left", 1.0, n::kSteerLeft, n::kDriveLeft},
                          {"right", -1.0, n::kSteerRight, n::kDriveRight}};
+  std::ostringstream s;
   for (const Side& side : sides) {
     const std::string corner = std::string("rear_") + side.name;
     s << "<body name=\"" << corner << "\" pos=\"" << Vec(0.0, side.sign * half_track, r)
@@ -301,7 +304,24 @@ std::string GatorBodyXml(const GatorParams& p, const Eigen::Isometry3d& T_W_B) {
       << WheelGeoms(p, corner) << "</body>\n"
       << "</body>\n";
   }
-  s << "</body>\n";
+  return s.str();
+}
+
+}  // namespace
+
+std::string GatorBodyXml(const GatorParams& p, const Eigen::Isometry3d& T_W_B) {
+  p.Validate();
+  namespace n = gator_names;
+  const double chassis_mass = ChassisMass(p);
+  const Eigen::Quaterniond q_W_B(T_W_B.linear());
+  std::ostringstream s;
+  s << "<body name=\"" << n::kChassis << "\" pos=\"" << Vec(T_W_B.translation()) << "\" quat=\""
+    << Quat(q_W_B) << "\">\n"
+    << "<freejoint name=\"chassis_free\"/>\n"
+    << Inertial(Vec3(p.cg_x_m, 0.0, p.cg_z_m), chassis_mass,
+                BoxInertia(chassis_mass, p.length_m, p.width_m, p.body_top_m))
+    << "\n"
+    << ChassisShapesXml(p) << LidarBaseXml(p) << WheelBodiesXml(p) << "</body>\n";
   return s.str();
 }
 
