@@ -1,6 +1,6 @@
 // The sensor the pipeline is built around: a VLP-16 tilted on a spinning base (the paper's mount).
 // The analytic scenes (synth/) and the simulated LiDAR (sim/) share these facts
-// (see ../shared/REFERENCE.md).
+// (see docs/REFERENCE.md).
 #pragma once
 
 #include <array>
