@@ -24,7 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "ovpc/navigation/navigator.h"
+#include "ovpc/backends/map_selection.h"
 #include "ovpc/scenarios/family.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 #include "suite.h"
@@ -172,7 +172,7 @@ class Planner {
     std::vector<std::string> settings = combo;
     if (!o_.map.empty()) settings.push_back(MapSetting(o_.map));
     try {
-      return navigation::MapKindName(scenarios::LoadScenario(file, settings, preset_).navigator.map);
+      return backends::MapKindName(scenarios::LoadScenario(file, settings, preset_).map_backends.map);
     } catch (const scenarios::ScenarioError&) {
       return "?";  // the run reports the error
     }
