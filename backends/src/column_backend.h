@@ -2,12 +2,36 @@
 #pragma once
 
 #include <cstdint>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "ovpc/backends/column_map.h"
 #include "ovpc/navigation/map_backend.h"
 
 namespace ovpc::backends::internal {
+
+/// The plane fit at each ground candidate reads the columns within normal_radius_m: beyond this
+/// many columns of radius an update's cost grows without bound (the defaults are 2.5 and 5).
+constexpr double kMaxNormalRadiusCells = 20.0;
+
+/// A number as a person writes it (20, 0.2, 1e+06).
+inline std::string Number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+/// @throws std::invalid_argument naming `section`.map.normal_radius_m when it spans more than
+/// kMaxNormalRadiusCells columns of `resolution_m`.
+inline void CheckNormalRadius(const ColumnMap::Config& map, double resolution_m, const std::string& section) {
+  const double max_m = kMaxNormalRadiusCells * resolution_m;
+  if (map.normal_radius_m <= max_m) return;
+  throw std::invalid_argument(section + ".map.normal_radius_m must be at most " + Number(kMaxNormalRadiusCells) +
+                              " cells (" + Number(max_m) + " m at resolution_m " + Number(resolution_m) + "), got " +
+                              Number(map.normal_radius_m));
+}
 
 /// The per-update inputs of a column map.
 inline ColumnMap::Config ColumnConfigFor(const ColumnMap::Config& config, const navigation::MapContext& context) {

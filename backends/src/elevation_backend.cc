@@ -16,6 +16,7 @@ namespace {
 using navigation::internal::Clock;
 using navigation::internal::MsSince;
 
+// Checked before the grid is allocated: a bad length would allocate first.
 const ElevationMapBackend::Config& Validated(const ElevationMapBackend::Config& config) {
   config.Validate();
   return config;
@@ -25,7 +26,13 @@ const ElevationMapBackend::Config& Validated(const ElevationMapBackend::Config& 
 
 void ElevationMapBackend::Config::Validate() const {
   grid.Validate();
+  const double cells = grid.length_m / grid.resolution_m;
+  if (!(cells <= kMaxCellsPerSide)) {
+    throw std::invalid_argument("elevation.grid.length_m / resolution_m must be at most " +
+                                internal::Number(kMaxCellsPerSide) + " cells a side, got " + internal::Number(cells));
+  }
   map.Validate();
+  internal::CheckNormalRadius(map, grid.resolution_m, "elevation");
 }
 
 ElevationMapBackend::ElevationMapBackend(const Config& config) : config_(Validated(config)), grid_(config.grid) {}

@@ -26,6 +26,7 @@ void OctoMapBackend::Config::Validate() const {
     throw std::invalid_argument("octomap.resolution_m must be in [0.01, 10], got " + std::to_string(resolution_m));
   }
   map.Validate();
+  internal::CheckNormalRadius(map, resolution_m, "octomap");
 }
 
 OctoMapBackend::OctoMapBackend(const Config& config) : config_(Validated(config)), tree_(config.resolution_m) {}

@@ -1,6 +1,7 @@
 // The comparison backends behind the navigator's seam, made by name (MapSelection): each maps the
 // flat ground ahead with the post in the way, plans on it and times its stages, judging slopes and
-// steps with the OVPC face test's thresholds; bad settings are refused naming the field.
+// steps with the OVPC face test's thresholds; bad settings are refused naming the field, before
+// anything is allocated.
 #include "ovpc/backends/map_selection.h"
 
 #include <memory>
@@ -101,6 +102,36 @@ TEST(MapSelectionTest, BadSettingsAreRefusedNamingTheField) {
   s = MapSelection{};
   s.elevation.map.normal_radius_m = -1.0;
   EXPECT_NE(Refusal([&] { s.Validate(); }).find("normal_radius_m"), std::string::npos);
+}
+
+// A grid rebuilt every update is bounded in cells a side, and the plane fit's radius in cells: the
+// library's limits (25,000 cells a side, any radius) let one update take minutes or all memory.
+TEST(MapSelectionTest, GridSizeAndNormalRadiusAreBounded) {
+  ElevationMapBackend::Config elevation;
+  elevation.grid.length_m = 200.0;  // 2,000 cells of 0.1 m: the most
+  EXPECT_EQ(Refusal([&] { elevation.Validate(); }), "");
+  elevation.grid.length_m = 2500.0;  // 25,000 cells: baselines' own limit
+  EXPECT_NO_THROW(elevation.grid.Validate());
+  EXPECT_NE(Refusal([&] { elevation.Validate(); }).find("elevation.grid.length_m / resolution_m must be at most 2000"),
+            std::string::npos)
+      << Refusal([&] { elevation.Validate(); });
+  EXPECT_THROW(ElevationMapBackend{elevation}, std::invalid_argument) << "refused before the grid is allocated";
+
+  elevation = ElevationMapBackend::Config{};
+  elevation.map.normal_radius_m = 2.0;  // 20 cells of 0.1 m: the most
+  EXPECT_EQ(Refusal([&] { elevation.Validate(); }), "");
+  elevation.map.normal_radius_m = 1e6;
+  EXPECT_NE(Refusal([&] { elevation.Validate(); }).find("elevation.map.normal_radius_m must be at most 20"),
+            std::string::npos)
+      << Refusal([&] { elevation.Validate(); });
+
+  OctoMapBackend::Config octomap;
+  octomap.map.normal_radius_m = 4.0;  // 20 voxels of 0.2 m
+  EXPECT_EQ(Refusal([&] { octomap.Validate(); }), "");
+  octomap.map.normal_radius_m = 4.5;
+  EXPECT_NE(Refusal([&] { octomap.Validate(); }).find("octomap.map.normal_radius_m must be at most 20"),
+            std::string::npos)
+      << Refusal([&] { octomap.Validate(); });
 }
 
 }  // namespace
