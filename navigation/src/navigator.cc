@@ -83,8 +83,6 @@ void Navigator::Config::Validate() const {
   buffer.Validate();
   preparation.Validate();
   ovpc.Validate();
-  octomap.Validate();
-  elevation.Validate();
   planner.Validate();
   local_goal.Validate();
   replan.Validate();
@@ -103,30 +101,7 @@ Navigator::Config Navigator::Config::Derived() const {
   c.planner.turning_radius_m = vehicle.turning_radius_m;
   c.follower.wheelbase_m = vehicle.wheelbase_m;
   c.follower.max_steering_rad = DegToRad(vehicle.max_steering_deg);
-  for (backends::ColumnMap::Config* m : {&c.octomap.map, &c.elevation.map}) {
-    m->alpha_max_rad = ovpc.mapper.traversability.alpha_max_rad;
-    m->delta_h_max_m = ovpc.mapper.traversability.delta_h_max_m;
-  }
   return c;
-}
-
-const char* MapKindName(Navigator::Config::MapKind kind) {
-  switch (kind) {
-    case Navigator::Config::MapKind::kOvpc: return "ovpc";
-    case Navigator::Config::MapKind::kOctoMap: return "octomap";
-    case Navigator::Config::MapKind::kElevation: return "elevation";
-  }
-  return "unknown";
-}
-
-std::unique_ptr<MapBackend> MakeMapBackend(const Navigator::Config& config) {
-  const Navigator::Config c = config.Derived();
-  switch (c.map) {
-    case Navigator::Config::MapKind::kOctoMap: return std::make_unique<OctoMapBackend>(c.octomap);
-    case Navigator::Config::MapKind::kElevation: return std::make_unique<ElevationMapBackend>(c.elevation);
-    case Navigator::Config::MapKind::kOvpc: break;
-  }
-  return std::make_unique<OvpcMapBackend>(c.ovpc);
 }
 
 Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins)
@@ -136,7 +111,7 @@ Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O,
   for (const auto& p : route_O_) {
     if (!p.allFinite()) throw std::invalid_argument("navigator: a route waypoint is not finite");
   }
-  backend_ = plugins.map ? std::move(plugins.map) : MakeMapBackend(config_);
+  backend_ = plugins.map ? std::move(plugins.map) : std::make_unique<OvpcMapBackend>(config_.ovpc);
   planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner);
   builtin_follower_ = !plugins.follower;
   follower_ = plugins.follower ? std::move(plugins.follower) : std::make_unique<PurePursuitFollower>(config_.follower);

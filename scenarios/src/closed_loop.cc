@@ -7,6 +7,7 @@
 #include <memory>
 #include <utility>
 
+#include "ovpc/backends/map_selection.h"
 #include "ovpc/navigation/navigator.h"
 #include "ovpc/navigation/task_thread.h"
 #include "ovpc/scenarios/recorder.h"
@@ -60,6 +61,16 @@ void CopyStats(const navigation::Navigator& nav, RunResult* result) {
   result->cycles = nav.cycles();
 }
 
+// The user's plug-ins, and where they give no map backend, the comparison backend the scenario
+// names (none for OVPC: the navigator's default).
+navigation::Navigator::Plugins PluginsFor(const Scenario& scenario, const navigation::Navigator::Config& nav_config,
+                                          const RunOptions& options) {
+  navigation::Navigator::Plugins plugins = options.make_plugins ? options.make_plugins(nav_config)
+                                                                : navigation::Navigator::Plugins{};
+  if (!plugins.map) plugins.map = backends::MakeMapBackend(scenario.map_backends, nav_config.ovpc.mapper.traversability);
+  return plugins;
+}
+
 }  // namespace
 
 navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed) {
@@ -83,8 +94,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   sim::Simulator sim(sim_config);
   // The route is given in the world frame, which is the odometry frame when the run starts.
   const navigation::Navigator::Config nav_config = NavigatorConfigFor(scenario, seed);
-  navigation::Navigator nav(nav_config, scenario.route_m,
-                            options.make_plugins ? options.make_plugins(nav_config) : navigation::Navigator::Plugins{});
+  navigation::Navigator nav(nav_config, scenario.route_m, PluginsFor(scenario, nav_config, options));
   nav.RunCyclesOnAWorkerThread(options.threads >= 2);
   std::unique_ptr<navigation::TaskThread> ray_cast_helper;
   if (options.threads >= 2) {

@@ -1,5 +1,6 @@
 // Reading YAML into Configs: a map reader that names file, line and key in every error, and the
-// visitors that walk the Config field lists (navigation/config_fields.h) to read and write them.
+// visitors that walk the Config field lists (navigation/config_fields.h, and the comparison
+// backends' backends/config_fields.h) to read and write them.
 #pragma once
 
 #include <algorithm>
@@ -22,10 +23,15 @@
 #include <yaml-cpp/yaml.h>
 
 #include "format.h"
+#include "ovpc/backends/config_fields.h"
 #include "ovpc/navigation/config_fields.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
 namespace ovpc::scenarios::internal {
+
+// The field lists of the robot's stack and of the comparison backends, one overload set.
+using backends::VisitFields;
+using navigation::VisitFields;
 
 inline std::string Where(const std::string& file, const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
@@ -221,7 +227,7 @@ class ConfigReader {
     if (!node) return;
     MapReader m(node, r_.Key(key), r_.file());
     ConfigReader sub(m);
-    navigation::VisitFields(sub, config);
+    VisitFields(sub, config);
     m.Finish();
     if constexpr (HasValidate<C>::value) ValidateAt(r_.file(), node, r_.Key(key), [&config] { config.Validate(); });
   }
@@ -253,7 +259,7 @@ class YamlWriter {
   void Section(const char* key, C& config) {
     out_ << std::string(indent_, ' ') << key << ":\n";
     indent_ += 2;
-    navigation::VisitFields(*this, config);
+    VisitFields(*this, config);
     indent_ -= 2;
   }
   std::string str() const { return out_.str(); }
@@ -292,7 +298,7 @@ class JsonWriter {
   template <class C>
   void Section(const char* key, C& config) {
     JsonWriter sub;
-    navigation::VisitFields(sub, config);
+    VisitFields(sub, config);
     json_[key] = sub.json_;
   }
   const nlohmann::json& json() const { return json_; }

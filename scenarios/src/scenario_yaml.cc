@@ -249,11 +249,13 @@ void ReadNavigatorAndRecord(MapReader& r, Scenario* s) {
   if (const YAML::Node n = r.Child("navigator")) {
     MapReader m(n, "navigator", r.file());
     ConfigReader reader(m);
-    navigation::VisitFields(reader, s->navigator);
+    internal::VisitFields(reader, s->navigator);
+    internal::VisitFields(reader, s->map_backends);
     m.Finish();
     // What holds across sections, with the geometry derived from the vehicle model.
     try {
       s->navigator.Derived().Validate();
+      s->map_backends.Validate();
     } catch (const std::invalid_argument& e) {
       const std::optional<YAML::Node> at = internal::NodeNamedBy(r.node(), e.what());
       m.Fail(at ? *at : n, std::string("in 'navigator': ") + e.what());
@@ -371,6 +373,7 @@ void Scenario::Validate() const {
   sim.Validate();
   record.Validate();
   navigator.Derived().Validate();
+  map_backends.Validate();
 }
 
 Preset LoadPreset(const std::string& path) { return Preset{ReadSmallRegularFile(path, "preset file"), path}; }
@@ -395,8 +398,10 @@ void ApplyPreset(const Preset& preset, Scenario* s) {
 std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed) {
   navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
   Recording::Config record = scenario.record;
+  backends::MapSelection map_backends = scenario.map_backends;
   internal::YamlWriter nav(2);
-  navigation::VisitFields(nav, navigator);
+  internal::VisitFields(nav, navigator);
+  internal::VisitFields(nav, map_backends);
   return "navigator:\n" + nav.str() + "record:\n  record_rate_hz: " + internal::FormatNumber(record.record_rate_hz) +
          "\n  mesh_snapshot_period_s: " + internal::FormatNumber(record.mesh_snapshot_period_s) + "\n";
 }

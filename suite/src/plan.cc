@@ -6,7 +6,7 @@
 #include <set>
 #include <sstream>
 
-#include "ovpc/navigation/navigator.h"
+#include "ovpc/backends/map_selection.h"
 #include "ovpc/scenarios/family.h"
 #include "ovpc/suite/output_folder.h"
 
@@ -195,9 +195,9 @@ void Planner::AddMalformed(const std::string& file, const std::string& error) {
 std::string Planner::MapOf(const std::string& file, const scenarios::Scenario& s, const std::vector<std::string>& combo) const {
   if (o_.map_given) return o_.map;
   const bool sets_map = std::any_of(combo.begin(), combo.end(), [](const std::string& kv) { return kv.rfind("navigator.map=", 0) == 0; });
-  if (!sets_map) return navigation::MapKindName(s.navigator.map);
+  if (!sets_map) return backends::MapKindName(s.map_backends.map);
   try {
-    return navigation::MapKindName(scenarios::LoadScenario(file, combo, preset_).navigator.map);
+    return backends::MapKindName(scenarios::LoadScenario(file, combo, preset_).map_backends.map);
   } catch (const scenarios::ScenarioError&) {
     return "?";  // the run reports the error
   }

@@ -10,37 +10,16 @@
 
 #include "ovpc/planner/local_goal.h"
 #include "ovpc/synth/synthetic_scene.h"
+#include "../support/test_navigation.h"
 
 namespace ovpc::navigation {
 namespace {
 
 using planner::Pose2;
 
-// 25 scans (1.25 s) of a vehicle standing at the origin of flat ground, heading +x.
-std::vector<Scan> FlatGroundScans(std::uint64_t seed) {
-  synth::Scene scene;
-  scene.cylinders.push_back({Vec3(9.0, 3.0, 0.0), 0.2, 2.0});
-  return synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, seed);
-}
-
-// The settings a flat-ground run needs beyond the library defaults (as in the default preset).
-Navigator::Config FlatConfig() {
-  Navigator::Config config;
-  config.ovpc.mapper.traversability.noise_floor_m = 0.05;
-  config.ovpc.map.normal_neighbours = 32;
-  config.planner.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
-  config.planner.range_m = 1.0;
-  config.local_goal.min_distance_m = 2.5;
-  return config;
-}
-
-// Feeds the scans and runs the first map cycle (due at 1 / map_rate_hz).
-void FirstCycle(Navigator* nav, std::vector<Scan> scans) {
-  const Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
-  for (Scan& s : scans) nav->AddScan(std::move(s));
-  EXPECT_FALSE(nav->Update(0.1, T_O_B)) << "no map cycle before 1 / map_rate_hz";
-  EXPECT_TRUE(nav->Update(0.2, T_O_B));
-}
+using testing::FirstCycle;
+using testing::FlatConfig;
+using testing::FlatGroundScans;
 
 TEST(NavigatorTest, OneCycleMapsPlansAheadAndSetsOff) {
   Navigator nav(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}});
@@ -384,52 +363,23 @@ TEST(NavigatorTest, APluginsOddAnswersAndATimeJumpNeitherCrashNorHang) {
   EXPECT_EQ(nav.stats().map_updates, 4u) << "counters are kept";
 }
 
-// The comparison backends by name: each maps the scans (free ground ahead, the post in the way),
-// plans on the map and times its stages; their slope and step thresholds are the OVPC face test's.
-TEST(NavigatorTest, TheConfiguredMapBackendMapsPlansAndTimesItsStages) {
-  const struct {
-    Navigator::Config::MapKind kind;
-    const char* name;
-    std::vector<std::string> stages;
-  } cases[] = {
-      {Navigator::Config::MapKind::kOvpc, "ovpc", {"sanitize", "transform", "hull", "mesh", "traversability", "vertex_cloud", "planning_map"}},
-      {Navigator::Config::MapKind::kOctoMap, "octomap", {"insert", "columns", "traversability"}},
-      {Navigator::Config::MapKind::kElevation, "elevation", {"fuse", "columns", "traversability"}},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.name);
-    Navigator::Config config = FlatConfig();
-    config.map = c.kind;
-    config.ovpc.mapper.traversability.alpha_max_rad = DegToRad(25.0);
-    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}});
-    EXPECT_STREQ(nav.map_backend().name(), c.name);
-    EXPECT_STREQ(MapKindName(c.kind), c.name);
-    FirstCycle(&nav, FlatGroundScans(1));
-    ASSERT_EQ(nav.cycles().size(), 1u);
-    EXPECT_TRUE(nav.cycles()[0].map_ok);
-    EXPECT_FALSE(nav.plan_log().empty()) << "a plan was tried on the map";
-    // The map it planned on: free ground ahead of the vehicle, the post at (9, 3) in the way.
-    ASSERT_NE(nav.map(), nullptr);
-    const planner::VehicleBox& box = nav.config().planner.vehicle;
-    EXPECT_EQ(planner::CheckPose(*nav.map(), box, Pose2{3.0, 0.0, 0.0}), planner::PoseCheck::kValid);
-    EXPECT_NE(planner::CheckPose(*nav.map(), box, Pose2{7.5, 3.0, 0.0}), planner::PoseCheck::kValid);
-    EXPECT_EQ(planner::CheckPose(*nav.map(), box, Pose2{7.5, -3.0, 0.0}), planner::PoseCheck::kValid) << "no post there";
-    const NavigatorStats stats = nav.stats();
-    ASSERT_EQ(stats.map_stages.size(), c.stages.size());
-    for (std::size_t i = 0; i < c.stages.size(); ++i) {
-      EXPECT_EQ(stats.map_stages[i].first, c.stages[i]);
-      EXPECT_EQ(stats.map_stages[i].second.calls, 1u);
-    }
-    const MapView view = nav.map_backend().View();
-    ASSERT_NE(view.points_L, nullptr);
-    EXPECT_GT(view.points_L->size(), 100u);
-  }
-  Navigator::Config config;
-  config.ovpc.mapper.traversability.alpha_max_rad = DegToRad(25.0);
-  config.ovpc.mapper.traversability.delta_h_max_m = 0.2;
-  const Navigator::Config derived = config.Derived();
-  EXPECT_DOUBLE_EQ(derived.octomap.map.alpha_max_rad, DegToRad(25.0));
-  EXPECT_DOUBLE_EQ(derived.elevation.map.delta_h_max_m, 0.2);
+// The default map backend is OVPC's: it maps the scans (free ground ahead, the post in the way),
+// plans on the map and times its stages. backends_test checks the comparison backends alike.
+TEST(NavigatorTest, TheDefaultMapBackendMapsPlansAndTimesItsStages) {
+  Navigator nav(FlatConfig(), {{0.0, 0.0}, {20.0, 0.0}});
+  EXPECT_STREQ(nav.map_backend().name(), "ovpc");
+  FirstCycle(&nav, FlatGroundScans(1));
+  ASSERT_EQ(nav.cycles().size(), 1u);
+  EXPECT_TRUE(nav.cycles()[0].map_ok);
+  ASSERT_NE(nav.map(), nullptr);
+  const planner::VehicleBox& box = nav.config().planner.vehicle;
+  EXPECT_EQ(planner::CheckPose(*nav.map(), box, Pose2{3.0, 0.0, 0.0}), planner::PoseCheck::kValid);
+  EXPECT_NE(planner::CheckPose(*nav.map(), box, Pose2{7.5, 3.0, 0.0}), planner::PoseCheck::kValid);
+  const std::vector<std::string> stages = {"sanitize", "transform", "hull", "mesh", "traversability", "vertex_cloud",
+                                           "planning_map"};
+  const NavigatorStats stats = nav.stats();
+  ASSERT_EQ(stats.map_stages.size(), stages.size());
+  for (std::size_t i = 0; i < stages.size(); ++i) EXPECT_EQ(stats.map_stages[i].first, stages[i]);
 }
 
 TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
@@ -438,12 +388,9 @@ TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   EXPECT_THROW(Navigator(config, {{0.0, 0.0}}), std::invalid_argument);
   EXPECT_THROW(Navigator(Navigator::Config{}, {}), std::invalid_argument);
   EXPECT_THROW(Navigator(Navigator::Config{}, {{0.0, std::nan("")}}), std::invalid_argument);
-  Navigator::Config octomap;
-  octomap.octomap.resolution_m = 0.0;
-  EXPECT_THROW(Navigator(octomap, {{0.0, 0.0}}), std::invalid_argument) << "checked whichever backend runs";
-  Navigator::Config elevation;
-  elevation.elevation.map.normal_radius_m = -1.0;
-  EXPECT_THROW(Navigator(elevation, {{0.0, 0.0}}), std::invalid_argument);
+  Navigator::Config ovpc;
+  ovpc.ovpc.map.normal_radius_m = -1.0;
+  EXPECT_THROW(Navigator(ovpc, {{0.0, 0.0}}), std::invalid_argument) << "the default backend's section";
   for (const double latency : {-0.01, 0.21, std::nan("")}) {  // at most 5 Hz's 0.2 s
     Navigator::Config late;
     late.latency_s = latency;

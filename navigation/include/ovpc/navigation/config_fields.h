@@ -6,10 +6,10 @@
 //                                          std::vector<double>
 //   v.Choice("name", value, {{"a", E::kA}, ...})   an enum by its names
 //   v.Section("name", config)              a nested Config (calls VisitFields on it)
-// Fields that are not settings are left out: per-update inputs (VertexCloudMap::Config's and
-// ColumnMap::Config's ground reference and known support), the comparison backends' traversability
-// thresholds (derived from the OVPC backend's), the planner's per-run seed, the gravity direction of the map frame,
-// and the geometry the Navigator derives from its VehicleModel (Navigator::Config::Derived).
+// Fields that are not settings are left out: per-update inputs (VertexCloudMap::Config's ground
+// reference and known support), the planner's per-run seed, the gravity direction of the map frame,
+// and the geometry the Navigator derives from its VehicleModel (Navigator::Config::Derived). The
+// comparison backends' settings are listed beside them, in backends/config_fields.h.
 #pragma once
 
 #include "ovpc/core/ghpr.h"
@@ -91,35 +91,6 @@ void VisitFields(V& v, OvpcMapBackend::Config& c) {
 }
 
 template <class V>
-void VisitFields(V& v, backends::ColumnMap::Config& c) {
-  v.Field("max_projection_distance_m", c.max_projection_distance_m);
-  v.Field("normal_radius_m", c.normal_radius_m);
-}
-
-template <class V>
-void VisitFields(V& v, OctoMapBackend::Config& c) {
-  v.Field("resolution_m", c.resolution_m);
-  v.Section("map", c.map);
-}
-
-template <class V>
-void VisitFields(V& v, baselines::ElevationMap::Config& c) {
-  v.Field("resolution_m", c.resolution_m);
-  v.Field("length_m", c.length_m);
-  v.Field("mahalanobis_threshold", c.mahalanobis_threshold);
-  v.Field("sensor_sigma_m", c.sensor_sigma_m);
-  v.Field("sensor_sigma_per_m", c.sensor_sigma_per_m);
-  v.Field("min_height_above_base_m", c.min_height_above_base_m);
-  v.Field("max_height_above_base_m", c.max_height_above_base_m);
-}
-
-template <class V>
-void VisitFields(V& v, ElevationMapBackend::Config& c) {
-  v.Section("grid", c.grid);
-  v.Section("map", c.map);
-}
-
-template <class V>
 void VisitFields(V& v, planner::VehicleBox& c) {
   v.Field("margin_m", c.margin_m);
   v.Field("ground_clearance_m", c.ground_clearance_m);
@@ -197,12 +168,7 @@ void VisitFields(V& v, Navigator::Config& c) {
   v.Section("vehicle", c.vehicle);
   v.Section("buffer", c.buffer);
   v.Section("preparation", c.preparation);
-  v.Choice("map", c.map, {{"ovpc", Navigator::Config::MapKind::kOvpc},
-                           {"octomap", Navigator::Config::MapKind::kOctoMap},
-                           {"elevation", Navigator::Config::MapKind::kElevation}});
   v.Section("ovpc", c.ovpc);
-  v.Section("octomap", c.octomap);
-  v.Section("elevation", c.elevation);
   v.Section("planner", c.planner);
   v.Section("local_goal", c.local_goal);
   v.Section("replan", c.replan);

@@ -19,6 +19,7 @@
 #include "ovpc/core/point_cloud_buffer.h"
 #include "ovpc/navigation/map_backend.h"
 #include "ovpc/navigation/map_preparation.h"
+#include "ovpc/navigation/ovpc_map_backend.h"
 #include "ovpc/navigation/path_follower.h"
 #include "ovpc/navigation/path_planner.h"
 #include "ovpc/navigation/task_thread.h"
@@ -108,15 +109,8 @@ class Navigator {
     VehicleModel vehicle;
     PointCloudBuffer::Config buffer;
     MapPreparation::Config preparation;
-    /// The map backend the navigator makes when no plug-in is given.
-    enum class MapKind { kOvpc, kOctoMap, kElevation };
-    MapKind map = MapKind::kOvpc;
-    OvpcMapBackend::Config ovpc;     ///< the default map backend
-    /// The comparison backends (docs/BACKENDS.md). Their traversability thresholds are derived from
-    /// ovpc.mapper.traversability (alpha_max_rad, delta_h_max_m), so that every backend judges
-    /// slopes and steps alike.
-    OctoMapBackend::Config octomap;
-    ElevationMapBackend::Config elevation;
+    /// The default map backend (a Plugins::map replaces it).
+    OvpcMapBackend::Config ovpc;
     /// The default planner. Its vehicle box's geometry (length, width, height, centre, wheelbase,
     /// track) and turning radius are derived from `vehicle`; the box's rules are set here.
     planner::LocalPlanner::Config planner;
@@ -165,8 +159,8 @@ class Navigator {
     Config Derived() const;
   };
 
-  /// Plug-ins; a null one is the default (the backend Config::map names, RrtConnectPlanner,
-  /// PurePursuitFollower from the config).
+  /// Plug-ins; a null one is the default (OvpcMapBackend, RrtConnectPlanner, PurePursuitFollower
+  /// from the config). backends/ has the comparison map backends (OctoMap, a 2.5D elevation map).
   struct Plugins {
     std::unique_ptr<MapBackend> map;
     std::unique_ptr<PathPlanner> planner;
@@ -291,12 +285,6 @@ class Navigator {
   StageTimer t_buffer_, t_mapper_, t_planner_, t_controller_;
   std::vector<std::pair<std::string, StageTimer>> t_map_stages_;
 };
-
-/// "ovpc", "octomap" or "elevation".
-const char* MapKindName(Navigator::Config::MapKind kind);
-/// The map backend `config.map` names, made from its section of `config` (geometry derived).
-/// @throws std::invalid_argument for an invalid config.
-std::unique_ptr<MapBackend> MakeMapBackend(const Navigator::Config& config);
 
 /// The pose's planar part: position and the heading of its x axis.
 planner::Pose2 ToPose2(const Eigen::Isometry3d& T);

@@ -85,7 +85,8 @@ struct RunResult {
 
 struct RunOptions {
   /// Plug-ins for the robot's stack, made for each run from its effective configuration: a user's
-  /// own map backend, planner or follower. Unset, or a null plug-in: the navigator's default.
+  /// own map backend, planner or follower. Unset, or a null plug-in: the navigator's default, but
+  /// for the map backend, which is then the one the scenario's `navigator.map` names.
   std::function<navigation::Navigator::Plugins(const navigation::Navigator::Config&)> make_plugins;
   std::string out_dir;    ///< mesh snapshots and frames go here ("" writes none)
   bool frames = false;    ///< rendered chase-camera PNG frames (needs EGL)

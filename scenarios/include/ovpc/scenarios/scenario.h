@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "ovpc/backends/map_selection.h"
 #include "ovpc/navigation/navigator.h"
 #include "ovpc/sim/simulator.h"
 
@@ -57,6 +58,9 @@ struct Scenario {
   sim::Simulator::Config sim;       ///< world, vehicle, start pose, sensor faults, odometry faults
   std::vector<Eigen::Vector2d> route_m;  ///< global route, world frame (= odometry frame at start)
   navigation::Navigator::Config navigator;  ///< the robot's stack
+  /// The map backend the run uses, for comparisons (`navigator.map`; its sections sit under
+  /// `navigator:` beside the robot's own settings). The robot's stack knows only its plug-in.
+  backends::MapSelection map_backends;
   Recording::Config record;
   Criteria criteria;
   std::vector<std::string> labels;  ///< e.g. "long": kept out of the default suite

@@ -1,0 +1,55 @@
+#include "ovpc/backends/octomap_backend.h"
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "column_backend.h"
+#include "stage_clock.h"
+
+namespace ovpc::backends {
+namespace {
+
+using navigation::internal::Clock;
+using navigation::internal::MsSince;
+
+const OctoMapBackend::Config& Validated(const OctoMapBackend::Config& config) {
+  config.Validate();
+  return config;
+}
+
+}  // namespace
+
+void OctoMapBackend::Config::Validate() const {
+  if (!(resolution_m >= 0.01 && resolution_m <= 10.0)) {
+    throw std::invalid_argument("octomap.resolution_m must be in [0.01, 10], got " + std::to_string(resolution_m));
+  }
+  map.Validate();
+  internal::CheckNormalRadius(map, resolution_m, "octomap");
+}
+
+OctoMapBackend::OctoMapBackend(const Config& config) : config_(Validated(config)), tree_(config.resolution_m) {}
+
+std::shared_ptr<const planner::PlanningMap> OctoMapBackend::Update(const Points& points_L,
+                                                                   const navigation::MapContext& context) {
+  stages_.clear();
+  view_points_.clear();
+  view_traversable_.clear();
+  auto t = Clock::now();
+  tree_.Insert(points_L, Vec3::Zero());
+  stages_.push_back({"insert", MsSince(t)});
+  t = Clock::now();
+  ColumnGrid columns = tree_.Columns();
+  stages_.push_back({"columns", MsSince(t)});
+  if (columns.ground_z.empty()) return nullptr;  // nothing seen with free space above it
+  t = Clock::now();
+  auto map = std::make_shared<const ColumnMap>(std::move(columns), internal::ColumnConfigFor(config_.map, context));
+  stages_.push_back({"traversability", MsSince(t)});
+  internal::ViewOf(*map, &view_points_, &view_traversable_);
+  return map;
+}
+
+navigation::MapView OctoMapBackend::View() const { return internal::ViewOf(view_points_, view_traversable_); }
+
+}  // namespace ovpc::backends
