@@ -8,13 +8,13 @@
 
 #include "column_backend.h"
 #include "ovpc/backends/elevation_columns.h"
-#include "stage_clock.h"
+#include "ovpc/core/internal/clock.h"
 
 namespace ovpc::backends {
 namespace {
 
-using navigation::internal::Clock;
-using navigation::internal::MsSince;
+using ovpc::internal::Clock;
+using ovpc::internal::MsSince;
 
 // Checked before the grid is allocated: a bad length would allocate first.
 const ElevationMapBackend::Config& Validated(const ElevationMapBackend::Config& config) {

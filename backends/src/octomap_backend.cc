@@ -6,13 +6,13 @@
 #include <utility>
 
 #include "column_backend.h"
-#include "stage_clock.h"
+#include "ovpc/core/internal/clock.h"
 
 namespace ovpc::backends {
 namespace {
 
-using navigation::internal::Clock;
-using navigation::internal::MsSince;
+using ovpc::internal::Clock;
+using ovpc::internal::MsSince;
 
 const OctoMapBackend::Config& Validated(const OctoMapBackend::Config& config) {
   config.Validate();

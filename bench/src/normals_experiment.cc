@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ovpc/bench/report.h"
+#include "ovpc/core/internal/hash.h"
 #include "ovpc/core/point_cloud_buffer.h"
 
 namespace ovpc::bench {
@@ -249,11 +250,8 @@ NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_con
 }
 
 std::uint64_t TrialSeed(std::uint64_t run_seed, std::uint64_t index) {
-  // SplitMix64 (Steele, Lea and Flood 2014) of the run seed advanced by the index.
-  std::uint64_t z = run_seed + 0x9e3779b97f4a7c15ULL * (index + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
+  // SplitMix64 of the run seed advanced by the index.
+  return ovpc::internal::MixBits(run_seed + ovpc::internal::kGoldenGamma * (index + 1));
 }
 
 }  // namespace ovpc::bench

@@ -3,14 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ovpc/core/internal/percentile.h"
+
 namespace ovpc::bench {
 
-double Percentile(const std::vector<double>& sorted, double p) {
-  const double h = p * static_cast<double>(sorted.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
-}
+double Percentile(const std::vector<double>& sorted, double p) { return ovpc::internal::Percentile(sorted, p); }
 
 SampleStats Summarize(std::vector<double> samples) {
   SampleStats s;

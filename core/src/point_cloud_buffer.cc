@@ -116,11 +116,7 @@ class VoxelAccumulator {
     return static_cast<double>(t) > x && t != std::numeric_limits<std::int64_t>::min() ? t - 1 : t;
   }
 
-  static std::uint64_t Hash(const Key key[3]) {
-    return Mix(static_cast<std::uint64_t>(key[0]) * 0x9e3779b97f4a7c15ULL ^
-               static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL ^
-               static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL);
-  }
+  static std::uint64_t Hash(const Key key[3]) { return internal::HashCellKey(key[0], key[1], key[2]); }
 
   void Add(const Key key[3], std::uint64_t hash, const Vec3& p) {
     const auto tag = static_cast<std::uint32_t>(hash >> 32);
@@ -294,11 +290,7 @@ class PointCloudBuffer::Grid {
     return c;
   }
 
-  static std::uint64_t Hash(const std::int32_t key[3]) {
-    return Mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(key[0])) * 0x9e3779b97f4a7c15ULL ^
-               static_cast<std::uint64_t>(static_cast<std::int64_t>(key[1])) * 0xc2b2ae3d27d4eb4fULL ^
-               static_cast<std::uint64_t>(static_cast<std::int64_t>(key[2])) * 0x165667b19e3779f9ULL);
-  }
+  static std::uint64_t Hash(const std::int32_t key[3]) { return internal::HashCellKey(key[0], key[1], key[2]); }
 
   const std::vector<Voxel>& voxels() const { return voxels_; }
 

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+
+#include "ovpc/core/internal/hash.h"
 #include <vector>
 
 namespace ovpc::navigation {
@@ -97,13 +99,7 @@ class CellIndex {
   }
 
  private:
-  static std::uint64_t Hash(const Key& k) {
-    std::uint64_t h = (static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL) ^
-                      (static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL) ^
-                      (static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL);
-    h ^= h >> 29;
-    return h * 0xbf58476d1ce4e5b9ULL ^ (h >> 32);
-  }
+  static std::uint64_t Hash(const Key& k) { return ovpc::internal::HashCellKey(k[0], k[1], k[2]); }
   double inv_;
   std::size_t mask_ = 0;
   std::vector<std::int32_t> slots_;

@@ -9,14 +9,15 @@
 #include <utility>
 
 #include "ovpc/controller/rollout.h"
-#include "stage_clock.h"
+#include "ovpc/core/internal/clock.h"
+#include "ovpc/core/internal/percentile.h"
 
 namespace ovpc::navigation {
 namespace {
 
-using internal::Clock;
-using internal::MsSince;
-using internal::ThreadCpuMs;
+using ovpc::internal::Clock;
+using ovpc::internal::MsSince;
+using ovpc::internal::ThreadCpuMs;
 using planner::Pose2;
 
 // The tick after `due_s` (which is at or before `time_s`): one period on, or, for a caller that fell
@@ -45,9 +46,9 @@ StageStats StageTimer::Stats() const {
   std::sort(v.begin(), v.end());
   for (double x : v) s.total_ms += x;
   s.mean_ms = s.total_ms / v.size();
-  s.median_ms = v[v.size() / 2];
-  s.p90_ms = v[std::min(v.size() - 1, v.size() * 9 / 10)];
-  s.p99_ms = v[std::min(v.size() - 1, v.size() * 99 / 100)];
+  s.median_ms = ovpc::internal::Percentile(v, 0.5);
+  s.p90_ms = ovpc::internal::Percentile(v, 0.9);
+  s.p99_ms = ovpc::internal::Percentile(v, 0.99);
   s.max_ms = v.back();
   return s;
 }

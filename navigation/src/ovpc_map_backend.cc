@@ -2,13 +2,13 @@
 
 #include <chrono>
 
-#include "stage_clock.h"
+#include "ovpc/core/internal/clock.h"
 
 namespace ovpc::navigation {
 namespace {
 
-using internal::Clock;
-using internal::MsSince;
+using ovpc::internal::Clock;
+using ovpc::internal::MsSince;
 
 }  // namespace
 

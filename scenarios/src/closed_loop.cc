@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "ovpc/backends/map_selection.h"
+#include "ovpc/core/internal/clock.h"
 #include "ovpc/navigation/navigator.h"
 #include "ovpc/navigation/task_thread.h"
 #include "ovpc/scenarios/recorder.h"
@@ -16,9 +17,8 @@
 namespace ovpc::scenarios {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using ovpc::internal::Clock;
+using ovpc::internal::MsSince;
 
 // A second thread for the LiDAR's ray cast (threads >= 2): a scan's firings are split between it and
 // the simulation thread while the navigator's map-and-plan cycle is not running on its worker (the

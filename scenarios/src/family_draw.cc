@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "config_yaml.h"
+#include "ovpc/core/internal/hash.h"
 #include "family_yaml.h"
 #include "ovpc/scenarios/family.h"
 #include "scenario_node.h"
@@ -22,15 +23,11 @@ namespace fs = std::filesystem;
 using internal::Where;
 using Values = std::map<std::string, Value>;
 
-constexpr std::uint64_t kGolden = 0x9E3779B97F4A7C15ULL;
+constexpr std::uint64_t kGolden = ovpc::internal::kGoldenGamma;
 constexpr std::size_t kMaxDraws = 10000;
 
 // splitmix64's output function.
-std::uint64_t Mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
+using ovpc::internal::MixBits;
 
 std::uint64_t Fnv1a(const std::string& s) {
   std::uint64_t h = 0xCBF29CE484222325ULL;
@@ -43,10 +40,10 @@ std::uint64_t Fnv1a(const std::string& s) {
 class Random {
  public:
   Random(std::uint64_t seed, std::size_t index, const std::string& name)
-      : state_(Mix(Mix(Mix(seed + kGolden) ^ ((index + 1) * kGolden)) ^ Fnv1a(name))) {}
-  std::uint64_t Next() { return Mix(state_ += kGolden); }
+      : state_(MixBits(MixBits(MixBits(seed + kGolden) ^ ((index + 1) * kGolden)) ^ Fnv1a(name))) {}
+  std::uint64_t Next() { return MixBits(state_ += kGolden); }
   /// [0, 1) with the 53 bits of a double's mantissa.
-  double Uniform01() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }
+  double Uniform01() { return ovpc::internal::ToUnitInterval(Next()); }
   /// [0, n), n >= 1, without modulo bias (rejection).
   std::uint64_t Below(std::uint64_t n) {
     const std::uint64_t max = std::numeric_limits<std::uint64_t>::max();

@@ -12,6 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config_yaml.h"
+#include "ovpc/core/internal/hash.h"
 #include "scenario_node.h"
 #include "ovpc/scenarios/closed_loop.h"
 
@@ -118,12 +119,9 @@ void ReadPostField(MapReader& r, const YAML::Node& item, sim::World* w) {
   constexpr double kMaxPosts = 10000;  // a field larger than this is not a scene the loop can run
   const double nx = std::floor((xs.y() - xs.x()) / spacing) + 1, ny = std::floor((ys.y() - ys.x()) / spacing) + 1;
   if (!(nx * ny <= kMaxPosts)) r.Fail(item, "'" + r.Key("spacing_m") + "' gives more than 10000 posts over the field");
-  std::uint64_t state = 0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(seed) + 1);
-  const auto uniform = [&state]() {  // splitmix64, 53 bits in [0, 1)
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  std::uint64_t state = ovpc::internal::kGoldenGamma * (static_cast<std::uint64_t>(seed) + 1);
+  const auto uniform = [&state]() {  // a splitmix64 stream, 53 bits in [0, 1)
+    return ovpc::internal::ToUnitInterval(ovpc::internal::MixBits(state += ovpc::internal::kGoldenGamma));
   };
   for (int iy = 0; iy < static_cast<int>(ny); ++iy) {
     for (int ix = 0; ix < static_cast<int>(nx); ++ix) {

@@ -6,25 +6,19 @@
 #include <cmath>
 #include <cstdint>
 
+#include "ovpc/core/internal/hash.h"
+
 namespace ovpc::sim {
 
-/// splitmix64 finaliser: a bijective 64-bit mix.
-inline std::uint64_t Mix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
+/// splitmix64 (ovpc/core/internal/hash.h).
+using ovpc::internal::Mix;
+using ovpc::internal::ToUnitInterval;
 
 /// Combines a running hash with a value; order matters.
 inline std::uint64_t HashCombine(std::uint64_t h, std::uint64_t value) {
-  return Mix64(h ^ Mix64(value + 0x632be59bd9b4e019ULL));
+  return Mix(h ^ Mix(value + 0x632be59bd9b4e019ULL));
 }
 
-/// The top 53 bits as a double in [0, 1).
-inline double ToUnitInterval(std::uint64_t x) {
-  return static_cast<double>(x >> 11) * (1.0 / 9007199254740992.0);
-}
 
 /// xoshiro256++ seeded through splitmix64, with uniform and Gaussian draws (Marsaglia's polar
 /// method, second value kept).
@@ -35,8 +29,8 @@ class Rng {
   void Seed(std::uint64_t seed) {
     std::uint64_t x = seed;
     for (std::uint64_t& word : s_) {
-      x += 0x9e3779b97f4a7c15ULL;
-      word = Mix64(x);
+      x += ovpc::internal::kGoldenGamma;
+      word = Mix(x);
     }
     has_spare_ = false;
   }
