@@ -28,6 +28,12 @@ using Runner = std::function<int()>;
 /// `--map NAME` of `ovpc run` and `ovpc suite`: "navigator.map=NAME", or bad input.
 using suite::MapSetting;
 
+/// A validator for a path option given with no text (`--out ''`, `--preset ''`).
+inline CLI::Validator NotEmpty() {
+  return CLI::Validator([](std::string& value) { return value.empty() ? std::string("must name a file or folder, got ''") : std::string(); },
+                        "NOT EMPTY");
+}
+
 Runner RegisterMesh(CLI::App& app);
 Runner RegisterSynth(CLI::App& app);
 Runner RegisterRun(CLI::App& app);

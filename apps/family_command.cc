@@ -44,7 +44,7 @@ Runner RegisterFamily(CLI::App& app) {
   cmd->add_option("families", o->files, "Family files (scenario files with parameters: and expect:)")->required();
   cmd->add_option("--samples", o->samples, "Random draws per grid point")->capture_default_str();
   cmd->add_option("--seed", o->seed, "The seed the draws are made from")->capture_default_str();
-  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output folder")->capture_default_str()->check(NotEmpty());
   return [o]() {
     if (o->samples < 1 || o->samples > 100000) throw BadInput("--samples must be 1-100000, got " + std::to_string(o->samples));
     // Every family is read and drawn before anything is written.

@@ -90,11 +90,12 @@ Runner RegisterRun(CLI::App& app) {
       "malformed scenario, unknown key, bad --set or --map).");
   cmd->add_option("scenario", o->scenario, "Scenario file (scenarios/*.yaml)")->required();
   o->seed_opt = cmd->add_option("--seed", o->seed, "Seed for every random source (default: the scenario's)");
-  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output folder")->capture_default_str()->check(NotEmpty());
   cmd->add_option("--set", o->settings,
                   "Override a scenario value: dotted.key=value (repeatable), e.g. navigator.ovpc.mapper.ghpr.gamma=-0.02");
   cmd->add_option("--preset", o->preset,
-                  "The robot's configuration to start from (default: the built-in navigation/presets/default.yaml)");
+                  "The robot's configuration to start from (default: the built-in navigation/presets/default.yaml)")
+      ->check(NotEmpty());
   CLI::Option* map_opt = cmd->add_option("--map", o->map,
                   "The map backend: ovpc, octomap or elevation (sets navigator.map after every --set; default: the "
                   "configuration's, ovpc)");

@@ -28,7 +28,7 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--first-seed", o->first_seed, "First seed F (e.g. 4 with --seeds 3: seeds 4, 5, 6)")->capture_default_str();
   cmd->add_option("--sweep", o->sweeps, "key=v1,v2,...: run every combination of values (repeatable)");
   cmd->add_option("--skip-label", o->skip_labels, "Leave out scenarios with this label (e.g. long)");
-  cmd->add_option("--preset", o->preset, "The robot's configuration for every run (default: the built-in one)");
+  cmd->add_option("--preset", o->preset, "The robot's configuration for every run (default: the built-in one)")->check(NotEmpty());
   CLI::Option* map_opt = cmd->add_option("--map", o->map,
                   "The map backend of every run: ovpc, octomap or elevation (default: each run's configuration; "
                   "--sweep navigator.map=ovpc,octomap,elevation compares them)");
@@ -36,7 +36,7 @@ Runner RegisterSuite(CLI::App& app) {
                   "Threads of each run (ovpc run --threads; default: 2 when twice --jobs fits in the cores, "
                   "else 1)")
       ->check(CLI::Range(1, 2));
-  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output folder")->capture_default_str()->check(NotEmpty());
   cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
   cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")
       ->capture_default_str();

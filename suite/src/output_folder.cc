@@ -79,6 +79,7 @@ bool IsRunFile(const std::string& name) {
 }
 
 void MakeFolder(const fs::path& dir) {
+  if (dir.empty()) throw BadInput("the output folder's name is empty");
   std::error_code ec;
   const bool fresh = !fs::exists(dir, ec) || (fs::is_directory(dir, ec) && fs::is_empty(dir, ec));
   fs::create_directories(dir, ec);

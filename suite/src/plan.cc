@@ -52,6 +52,9 @@ std::vector<std::vector<std::string>> SweepCombinations(const std::vector<std::s
   double count = 1.0;
   for (const std::string& arg : sweep_args) {
     sweeps.push_back(ParseSweep(arg));
+    for (std::size_t i = 0; i + 1 < sweeps.size(); ++i) {
+      if (sweeps[i].key == sweeps.back().key) throw BadInput("--sweep " + sweeps.back().key + " is given twice; give its values once");
+    }
     count *= static_cast<double>(sweeps.back().values.size());
   }
   if (count > static_cast<double>(kMaxCombinations)) {

@@ -536,6 +536,15 @@ TEST_F(CliTest, ImpossibleLimitsAreRefusedUpFront) {
   EXPECT_EQ(samples.exit_code, 2) << samples.err;
   EXPECT_EQ(Run("family " + Path("short.yaml") + " --samples -1 --out " + Path("out")).exit_code, 2);
   EXPECT_EQ(Run(suite + "--map ''").exit_code, 2);
+  for (const char* empty : {"--preset ''", "--out ''"}) {
+    const RunResult r = Run("suite " + Path("short.yaml") + " " + empty);
+    EXPECT_EQ(r.exit_code, 2) << empty;
+    EXPECT_NE(r.err.find("must name a file or folder"), std::string::npos) << r.err;
+    EXPECT_EQ(Run("run " + Path("short.yaml") + " " + empty + (std::string(empty) == "--out ''" ? "" : " --out " + Path("run"))).exit_code, 2);
+  }
+  const RunResult twice_key = Run(suite + "--sweep navigator.latency_s=0.1 --sweep navigator.latency_s=0.2");
+  EXPECT_EQ(twice_key.exit_code, 2);
+  EXPECT_NE(twice_key.err.find("given twice"), std::string::npos) << twice_key.err;
   const RunResult run_map = Run("run " + Path("short.yaml") + " --map '' --out " + Path("run"));
   EXPECT_EQ(run_map.exit_code, 2);
   EXPECT_NE(run_map.err.find("--map must be"), std::string::npos) << run_map.err;

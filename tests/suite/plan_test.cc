@@ -36,6 +36,7 @@ TEST(SweepCombinationsTest, TooManyOrMalformedAreRefusedWithTheCount) {
   EXPECT_THROW(SweepCombinations({"a=1,,2"}), BadInput);
   EXPECT_THROW(SweepCombinations({"=1"}), BadInput);
   EXPECT_THROW(SweepCombinations({"a="}), BadInput);
+  EXPECT_THROW(SweepCombinations({"a=1", "b=2", "a=3"}), BadInput) << "one key swept twice";
 }
 
 TEST(CollectFilesTest, AFileGivenTwiceOrNotAFileIsRefused) {
