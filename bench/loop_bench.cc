@@ -162,9 +162,9 @@ int main(int argc, char** argv) {
       ratio.push_back(rtfn.back() / rtf1.back());
       cpu.push_back(1000.0 * one.cpu_s / sim_s);
       phys.push_back(one.result.physics_lidar.total_ms / sim_s);
-      buffer.push_back(one.result.buffer.total_ms / sim_s);
-      map.push_back(one.result.mapper.total_ms / sim_s);
-      plan.push_back(one.result.planner.total_ms / sim_s);
+      buffer.push_back(one.result.navigator.buffer.total_ms / sim_s);
+      map.push_back(one.result.navigator.mapper.total_ms / sim_s);
+      plan.push_back(one.result.navigator.planner.total_ms / sim_s);
       ray.push_back(RayCastAloneMsPerS(scenario, seed, one.result));
     }
     std::printf("%-14s %6.1f | %7.2f %7.2f %6.2f | %8.1f | %8.1f %7.1f %7.1f %8.1f | %9.1f\n", scenario.name.c_str(),

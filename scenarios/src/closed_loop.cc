@@ -46,17 +46,7 @@ double RouteLength(const std::vector<Eigen::Vector2d>& route) {
 }
 
 void CopyStats(const navigation::Navigator& nav, RunResult* result) {
-  const navigation::NavigatorStats s = nav.stats();
-  result->map_updates = s.map_updates;
-  result->map_failures = s.map_failures;
-  result->plans = s.plans;
-  result->replans_found = s.replans_found;
-  result->plan_outcomes = s.plan_outcomes;
-  result->buffer = s.buffer;
-  result->mapper = s.mapper;
-  result->planner = s.planner;
-  result->controller = s.controller;
-  result->map_stages = s.map_stages;
+  result->navigator = nav.stats();
   result->map_backend = nav.map_backend().name();
   result->cycles = nav.cycles();
 }

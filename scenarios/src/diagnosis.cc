@@ -60,7 +60,8 @@ void ReadMotion(const RunResult& r, Diagnosis* d) {
 void ReadPlans(const RunResult& r, Diagnosis* d) {
   std::array<std::size_t, planner::kNumPoseChecks> rejected{};
   std::map<std::string, std::size_t> failures;
-  for (const PlanRecord& p : r.plan_log) {
+  for (const PlanRecord& record : r.plan_log) {
+    const navigation::PlanAttempt& p = record.attempt;
     // A plan found and one found but not taken (the current path kept) are not failures.
     if (p.outcome == "found" || p.outcome == "kept current") d->last_plan_found_s = p.time_s;
     else ++failures[p.outcome];

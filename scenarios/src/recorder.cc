@@ -26,6 +26,9 @@ Eigen::Vector3d ToWorld(const Eigen::Isometry3d& T_W_L, const planner::Pose2& p)
 
 }  // namespace
 
+Eigen::Vector3d PlanRecord::VehicleW() const { return ToWorld(T_W_L, attempt.vehicle_L); }
+Eigen::Vector3d PlanRecord::GoalW() const { return ToWorld(T_W_L, attempt.goal_L); }
+
 bool IsRecorderPicture(const std::string& name) {
   const auto digits = [&name](std::size_t from, std::size_t to) {
     if (from >= to) return false;
@@ -98,20 +101,7 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const nav
   const Eigen::Isometry3d T_W_L = T_W_O * navigator.map_T_O_L();
   const auto& log = navigator.plan_log();
   for (; plans_seen_ < log.size(); ++plans_seen_) {
-    const navigation::PlanAttempt& a = log[plans_seen_];
-    PlanRecord r;
-    r.time_s = a.time_s;
-    r.reason = a.reason;
-    r.blocked_at_m = a.blocked_at_m;
-    r.blocked_by = a.blocked_by;
-    r.vehicle_W = ToWorld(T_W_L, a.vehicle_L);
-    r.has_goal = a.has_goal;
-    if (a.has_goal) r.goal_W = ToWorld(T_W_L, a.goal_L);
-    r.goal_progress_m = a.goal_progress_m;
-    r.outcome = a.outcome;
-    r.iterations = a.iterations;
-    r.state_checks = a.state_checks;
-    result_->plan_log.push_back(r);
+    result_->plan_log.push_back({log[plans_seen_], T_W_L});
   }
   if (navigator.map_count() == maps_seen_) return;  // no new map this cycle
   maps_seen_ = navigator.map_count();

@@ -105,9 +105,9 @@ std::string FormatScorecard(const Scenario& scenario, const RunResult& r) {
   }
   out << std::fixed << std::setprecision(1) << "simulated " << r.sim_time_s << " s in " << r.wall_time_s
       << " s wall (" << r.real_time_factor << "x real time), driven " << r.distance_m << " m, route progress "
-      << r.route_progress_m << " / " << r.route_length_m << " m, " << r.replans_found << " plans found of "
-      << r.plans << ", " << r.map_updates << " map updates (" << r.map_backend << ", median " << std::setprecision(2)
-      << r.mapper.median_ms << " ms)\n";
+      << r.route_progress_m << " / " << r.route_length_m << " m, " << r.navigator.replans_found << " plans found of "
+      << r.navigator.plans << ", " << r.navigator.map_updates << " map updates (" << r.map_backend << ", median "
+      << std::setprecision(2) << r.navigator.mapper.median_ms << " ms)\n";
   out << "diagnosis: " << Diagnose(r).summary << "\n";
   return out.str();
 }
@@ -118,7 +118,7 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
     criteria.push_back({{"name", c.name}, {"expected", c.expected}, {"actual", c.actual}, {"passed", c.passed}});
   }
   nlohmann::json map_stages = nlohmann::json::object();
-  for (const auto& [name, stats] : r.map_stages) map_stages[name] = StageJson(stats);
+  for (const auto& [name, stats] : r.navigator.map_stages) map_stages[name] = StageJson(stats);
   const nlohmann::json j = {
       {"scenario", scenario.name},
       {"map", r.map_backend},
@@ -133,22 +133,22 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
       {"distance_m", r.distance_m},
       {"route_progress_m", r.route_progress_m},
       {"route_length_m", r.route_length_m},
-      {"map_updates", r.map_updates},
-      {"map_failures", r.map_failures},
-      {"plans", r.plans},
-      {"replans_found", r.replans_found},
-      {"plan_outcomes", r.plan_outcomes},
+      {"map_updates", r.navigator.map_updates},
+      {"map_failures", r.navigator.map_failures},
+      {"plans", r.navigator.plans},
+      {"replans_found", r.navigator.replans_found},
+      {"plan_outcomes", r.navigator.plan_outcomes},
       {"collision_steps", r.collision_steps},
       {"collisions", r.collisions},
       {"files", r.files},
       {"config", RunConfigJson(scenario, r.seed)},
       {"diagnosis", DiagnosisJson(Diagnose(r))},
       {"timing", {{"physics_lidar", StageJson(r.physics_lidar)},
-                  {"buffer", StageJson(r.buffer)},
-                  {"map_update", StageJson(r.mapper)},
+                  {"buffer", StageJson(r.navigator.buffer)},
+                  {"map_update", StageJson(r.navigator.mapper)},
                   {"map_stages", map_stages},
-                  {"planning", StageJson(r.planner)},
-                  {"control", StageJson(r.controller)}}},
+                  {"planning", StageJson(r.navigator.planner)},
+                  {"control", StageJson(r.navigator.controller)}}},
   };
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot open for writing");
@@ -204,10 +204,14 @@ void WritePlansCsv(const RunResult& r, const std::string& path) {
     out << ",states_" << name;
   }
   out << "\n" << std::setprecision(9);
-  for (const PlanRecord& p : r.plan_log) {
-    out << p.time_s << "," << p.reason << "," << p.blocked_at_m << "," << p.blocked_by << "," << p.vehicle_W.x() << "," << p.vehicle_W.y() << "," << p.vehicle_W.z() << ",";
+  for (const PlanRecord& record : r.plan_log) {
+    const navigation::PlanAttempt& p = record.attempt;
+    const Eigen::Vector3d vehicle_W = record.VehicleW();
+    out << p.time_s << "," << p.reason << "," << p.blocked_at_m << "," << p.blocked_by << "," << vehicle_W.x() << ","
+        << vehicle_W.y() << "," << vehicle_W.z() << ",";
     if (p.has_goal) {
-      out << p.goal_W.x() << "," << p.goal_W.y() << "," << p.goal_W.z() << "," << p.goal_progress_m;
+      const Eigen::Vector3d goal_W = record.GoalW();
+      out << goal_W.x() << "," << goal_W.y() << "," << goal_W.z() << "," << p.goal_progress_m;
     } else {
       out << ",,,";
     }

@@ -24,12 +24,12 @@ RunResult MadeUpRun(double duration_s, Speed speed) {
     r.trajectory.push_back(s);
   }
   PlanRecord found, failed;
-  found.time_s = 12.0;
-  found.outcome = "found";
-  failed.time_s = 30.0;
-  failed.outcome = "start_invalid:ground under footprint";
-  failed.state_checks[static_cast<std::size_t>(planner::PoseCheck::kCollision)] = 40;
-  failed.state_checks[static_cast<std::size_t>(planner::PoseCheck::kGroundUnderFootprint)] = 90;
+  found.attempt.time_s = 12.0;
+  found.attempt.outcome = "found";
+  failed.attempt.time_s = 30.0;
+  failed.attempt.outcome = "start_invalid:ground under footprint";
+  failed.attempt.state_checks[static_cast<std::size_t>(planner::PoseCheck::kCollision)] = 40;
+  failed.attempt.state_checks[static_cast<std::size_t>(planner::PoseCheck::kGroundUnderFootprint)] = 90;
   r.plan_log = {found, failed, failed};
   return r;
 }
@@ -49,8 +49,8 @@ TEST(DiagnosisTest, AVehicleThatStoodAtTheEndStalled) {
   // A plan found but not taken (the current path kept) is a plan found, not a failure.
   RunResult kept = MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; });
   PlanRecord k;
-  k.time_s = 40.0;
-  k.outcome = "kept current";
+  k.attempt.time_s = 40.0;
+  k.attempt.outcome = "kept current";
   kept.plan_log.insert(kept.plan_log.end(), 3, k);
   const Diagnosis dk = Diagnose(kept);
   ASSERT_TRUE(dk.last_plan_found_s.has_value());

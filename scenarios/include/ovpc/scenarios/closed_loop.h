@@ -38,20 +38,14 @@ struct MapPoint {
   bool traversable = false;
 };
 
-/// One planner call of a run, for plans.csv: where the vehicle was, where the local goal was (both in
-/// the world frame, by the truth at that time) and how the search went.
+/// One planner call of a run, for plans.csv: the navigator's attempt as it was, and where that
+/// cycle's map frame L lay in the world (placed by the truth when the cycle was recorded).
 struct PlanRecord {
-  double time_s = 0.0;
-  std::string reason;              ///< the re-planning trigger
-  double blocked_at_m = 0.0;       ///< path blocked: straight-line distance to the first invalid pose
-  std::string blocked_by;          ///< path blocked: the check that failed there (planner::PoseCheckName)
-  Eigen::Vector3d vehicle_W{0, 0, 0};  ///< x, y, yaw
-  bool has_goal = false;
-  Eigen::Vector3d goal_W{0, 0, 0};     ///< x, y, yaw of the local goal
-  double goal_progress_m = 0.0;    ///< route progress of the local goal
-  std::string outcome;
-  unsigned iterations = 0;
-  std::array<std::size_t, planner::kNumPoseChecks> state_checks{};  ///< by planner::PoseCheck
+  navigation::PlanAttempt attempt;
+  Eigen::Isometry3d T_W_L = Eigen::Isometry3d::Identity();
+  /// The vehicle and the local goal in the world frame: x, y, yaw.
+  Eigen::Vector3d VehicleW() const;
+  Eigen::Vector3d GoalW() const;
 };
 
 struct RunResult {
@@ -66,11 +60,7 @@ struct RunResult {
   double distance_m = 0.0;         ///< driven, true path length
   double route_progress_m = 0.0;   ///< farthest point reached along the route
   double route_length_m = 0.0;
-  std::size_t map_updates = 0;
-  std::size_t map_failures = 0;    ///< updates that gave no map (too few points, degenerate)
-  std::size_t plans = 0;           ///< planner calls
-  std::size_t replans_found = 0;   ///< plans that gave a new path
-  std::map<std::string, std::size_t> plan_outcomes;  ///< "found", "no_path", "start_invalid:collision", ...
+  navigation::NavigatorStats navigator;  ///< the navigator's counters and stage timings, as it kept them
   std::size_t collision_steps = 0;
   std::vector<std::string> collisions;  ///< first contacts: time, vehicle geom, world geom
   std::vector<TrajectorySample> trajectory;
@@ -78,9 +68,8 @@ struct RunResult {
   std::vector<navigation::CycleRecord> cycles;  ///< the navigator's map-and-plan cycles
   std::vector<MapPoint> map_points;     ///< the maps' points over the run (subsampled), world frame
   std::vector<std::string> files;       ///< files written (mesh snapshots, frames)
-  StageStats physics_lidar, buffer, mapper, planner, controller;
+  StageStats physics_lidar;
   std::string map_backend;  ///< the map backend's name ("ovpc", "octomap", "elevation", a plug-in's)
-  std::vector<std::pair<std::string, StageStats>> map_stages;  ///< its update per stage
 };
 
 struct RunOptions {
