@@ -12,6 +12,7 @@
 #include "ovpc/core/types.h"
 #include "ovpc/planner/planning_map.h"
 #include "ovpc/planner/vertex_cloud_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::backends {
 
@@ -68,6 +69,11 @@ class ColumnMap final : public planner::PlanningMap {
     /// among a column's candidates) and the ground the vehicle stands on unseen.
     double ground_reference_z_m = 0.0;
     planner::VertexCloudMap::Config::SupportRegion known_support;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, max_projection_distance_m), "m", "farther from a column with ground a pose is unknown");
+      v.Field(OVPC_FIELD(c, normal_radius_m), "m", "the ground plane is fitted over the columns within this");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

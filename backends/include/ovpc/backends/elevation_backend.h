@@ -10,6 +10,7 @@
 #include "ovpc/core/types.h"
 #include "ovpc/navigation/map_backend.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::backends {
 
@@ -24,6 +25,11 @@ class ElevationMapBackend final : public navigation::MapBackend {
     baselines::ElevationMap::Config grid;
     /// As OctoMapBackend::Config::map.
     ColumnMap::Config map;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Section(OVPC_FIELD(c, grid), "baselines::ElevationMap, rebuilt per update");
+      v.Section(OVPC_FIELD(c, map), "the planner's view of the cells");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

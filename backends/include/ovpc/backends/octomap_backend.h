@@ -10,6 +10,7 @@
 #include "ovpc/core/types.h"
 #include "ovpc/navigation/map_backend.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::backends {
 
@@ -25,6 +26,11 @@ class OctoMapBackend final : public navigation::MapBackend {
     /// The planner's view. Its alpha_max_rad and delta_h_max_m are the OVPC face test's
     /// (MakeMapBackend copies them); ground_reference_z_m and known_support are set per update.
     ColumnMap::Config map;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, resolution_m), "m", "voxel edge (0.1 costs about 4x the update time)");
+      v.Section(OVPC_FIELD(c, map), "the planner's view of the columns");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

@@ -8,6 +8,7 @@
 
 #include "ovpc/core/vertex_cloud.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::planner {
 
@@ -48,6 +49,12 @@ class VertexCloudMap final : public PlanningMap {
       bool Contains(double x_m, double y_m) const;
     };
     SupportRegion known_support;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, max_projection_distance_m), "m", "farther from its nearest visible point a pose is unknown");
+      v.Field(OVPC_FIELD(c, normal_neighbours), "points", "1: the nearest point's vertex normal (paper)");
+      v.Field(OVPC_FIELD(c, normal_radius_m), "m", "the fitted plane's neighbours lie within this");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
