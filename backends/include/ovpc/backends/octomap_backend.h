@@ -23,8 +23,7 @@ class OctoMapBackend final : public navigation::MapBackend {
  public:
   struct Config {
     double resolution_m = 0.2;  ///< voxel edge
-    /// The planner's view. Its alpha_max_rad and delta_h_max_m are the OVPC face test's
-    /// (MakeMapBackend copies them); ground_reference_z_m and known_support are set per update.
+    /// The planner's view (its thresholds are the OVPC face test's, given to the constructor).
     ColumnMap::Config map;
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
@@ -35,7 +34,8 @@ class OctoMapBackend final : public navigation::MapBackend {
     void Validate() const;
   };
   /// @throws std::invalid_argument for an invalid config.
-  explicit OctoMapBackend(const Config& config);
+  /// `faces`: the OVPC face test's thresholds, which the ColumnMap judges with.
+  explicit OctoMapBackend(const Config& config, const Traversability::Config& faces = {});
   std::shared_ptr<const planner::PlanningMap> Update(const Points& points_L,
                                                      const navigation::MapContext& context) override;
   navigation::MapView View() const override;
@@ -43,9 +43,11 @@ class OctoMapBackend final : public navigation::MapBackend {
   /// insert (the OcTree), columns (reading it), traversability (ColumnMap: planes, steps).
   std::vector<navigation::MapStageTime> StageTimes() const override { return stages_; }
   const Config& config() const { return config_; }
+  const Traversability::Config& faces() const { return faces_; }
 
  private:
   Config config_;
+  Traversability::Config faces_;
   OctoMapColumns tree_;
   std::vector<navigation::MapStageTime> stages_;
   std::vector<Vec3> view_points_;

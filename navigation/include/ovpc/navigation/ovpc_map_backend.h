@@ -19,8 +19,8 @@ class OvpcMapBackend final : public MapBackend {
  public:
   struct Config {
     OvpcMapper::Config mapper;
-    /// The planner's view of the vertex cloud. ground_reference_z_m and known_support are set per
-    /// update from the MapContext.
+    /// The planner's view of the vertex cloud (where the vehicle stands comes per update, from
+    /// the MapContext).
     planner::VertexCloudMap::Config map;
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
