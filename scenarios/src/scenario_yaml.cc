@@ -387,7 +387,7 @@ void ApplyPreset(const Preset& preset, Scenario* s) {
   } catch (const YAML::ParserException& e) {
     throw ScenarioError(preset.file + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
   }
-  if (!root.IsMap()) throw ScenarioError(preset.file + ": a preset must be a mapping with 'navigator' and 'record'");
+  if (!root.IsMap()) throw ScenarioError(preset.file + ": a preset must be a mapping with 'navigator' (and, as --print-config writes it, 'record')");
   MapReader r(root, "", preset.file);
   ReadNavigatorAndRecord(r, s);
   r.Finish();
