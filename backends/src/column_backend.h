@@ -33,12 +33,12 @@ inline void CheckNormalRadius(const ColumnMap::Config& map, double resolution_m,
                               Number(map.normal_radius_m));
 }
 
-/// The per-update inputs of a column map.
-inline ColumnMap::Config ColumnConfigFor(const ColumnMap::Config& config, const navigation::MapContext& context) {
-  ColumnMap::Config c = config;
-  c.ground_reference_z_m = context.T_L_B.translation().z();
-  c.known_support = context.known_support;
-  return c;
+/// Where the vehicle stands, the per-update input of a column map.
+inline planner::GroundContext GroundOf(const navigation::MapContext& context) {
+  planner::GroundContext ground;
+  ground.ground_reference_z_m = context.T_L_B.translation().z();
+  ground.known_support = context.known_support;
+  return ground;
 }
 
 /// What a person looks at of a column map: its ground candidates with their verdicts.

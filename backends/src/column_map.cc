@@ -22,7 +22,7 @@ void RequirePositive(double value, const char* field) {
   }
 }
 
-bool InRegion(const planner::VertexCloudMap::Config::SupportRegion& r, double c, double s, double x_m, double y_m) {
+bool InRegion(const planner::SupportRegion& r, double c, double s, double x_m, double y_m) {
   if (r.empty()) return false;
   const double dx = x_m - r.pose.x_m, dy = y_m - r.pose.y_m;
   const double along = c * dx + s * dy, across = -s * dx + c * dy;
@@ -57,23 +57,25 @@ void ColumnGrid::Reset(double resolution, double origin_x, double origin_y, int 
 void ColumnMap::Config::Validate() const {
   RequirePositive(max_projection_distance_m, "max_projection_distance_m");
   RequirePositive(normal_radius_m, "normal_radius_m");
-  if (!(alpha_max_rad > 0.0 && alpha_max_rad < kPi / 2)) {
-    throw std::invalid_argument("ColumnMap::Config: alpha_max_rad must be in (0, pi/2), got " + std::to_string(alpha_max_rad));
-  }
-  RequirePositive(delta_h_max_m, "delta_h_max_m");
-  if (!std::isfinite(ground_reference_z_m)) throw std::invalid_argument("ColumnMap::Config: ground_reference_z_m must be finite");
 }
 
-ColumnMap::ColumnMap(ColumnGrid grid, const Config& config) : grid_(std::move(grid)), config_(config) {
+ColumnMap::ColumnMap(ColumnGrid grid, const Config& config, const planner::GroundContext& ground,
+                     const Traversability::Config& faces)
+    : grid_(std::move(grid)), config_(config), ground_(ground), faces_(faces) {
   config_.Validate();
+  ground_.Validate();
+  if (!(faces_.alpha_max_rad > 0.0 && faces_.alpha_max_rad < kPi / 2)) {
+    throw std::invalid_argument("ColumnMap: alpha_max_rad must be in (0, pi/2), got " + std::to_string(faces_.alpha_max_rad));
+  }
+  RequirePositive(faces_.delta_h_max_m, "delta_h_max_m");
   const ColumnGrid& g = grid_;
   if (!(g.resolution_m > 0.0) || g.nx < 0 || g.ny < 0 || g.ground_begin.size() != g.num_columns() + 1 ||
       g.sample_begin.size() != g.num_columns() + 1 || g.ground_begin.back() != g.ground_z.size() ||
       g.sample_begin.back() != g.sample_z.size() || g.sample_ground.size() != g.sample_z.size()) {
     throw std::invalid_argument("ColumnMap: the column grid's sizes do not match");
   }
-  support_cos_ = std::cos(config_.known_support.pose.yaw_rad);
-  support_sin_ = std::sin(config_.known_support.pose.yaw_rad);
+  support_cos_ = std::cos(ground_.known_support.pose.yaw_rad);
+  support_sin_ = std::sin(ground_.known_support.pose.yaw_rad);
   ground_column_.resize(g.ground_z.size());
   for (std::size_t c = 0; c < g.num_columns(); ++c) {
     for (std::uint32_t k = g.ground_begin[c]; k < g.ground_begin[c + 1]; ++k) ground_column_[k] = static_cast<int>(c);
@@ -124,7 +126,7 @@ void ColumnMap::Judge() {
   traversable_.assign(n, 0);
   const double r = config_.normal_radius_m;
   const int reach = static_cast<int>(std::ceil(r / g.resolution_m));
-  const double cos_alpha = std::cos(config_.alpha_max_rad);
+  const double cos_alpha = std::cos(faces_.alpha_max_rad);
   for (std::size_t i = 0; i < n; ++i) {
     const int c = ground_column_[i];
     const int ix = c % g.nx, iy = c / g.nx;
@@ -166,7 +168,7 @@ void ColumnMap::Judge() {
       for (int jx = ix - 1; ok && jx <= ix + 1; ++jx) {
         if (jx < 0 || jy < 0 || jx >= g.nx || jy >= g.ny || (jx == ix && jy == iy)) continue;
         const int k = NearestInColumn(static_cast<std::size_t>(jy) * g.nx + jx, z);
-        if (k >= 0 && !(std::abs(g.ground_z[static_cast<std::size_t>(k)] - z) < config_.delta_h_max_m)) ok = false;
+        if (k >= 0 && !(std::abs(g.ground_z[static_cast<std::size_t>(k)] - z) < faces_.delta_h_max_m)) ok = false;
       }
     }
     traversable_[i] = ok ? 1 : 0;
@@ -205,7 +207,7 @@ std::optional<ColumnMap::Candidate> ColumnMap::NearestGround(double x_m, double 
 }
 
 std::optional<planner::GroundPose> ColumnMap::Project(const planner::Pose2& pose) const {
-  const auto found = NearestGround(pose.x_m, pose.y_m, config_.ground_reference_z_m, config_.max_projection_distance_m);
+  const auto found = NearestGround(pose.x_m, pose.y_m, ground_.ground_reference_z_m, config_.max_projection_distance_m);
   if (!found) return std::nullopt;
   const auto i = static_cast<std::size_t>(found->index);
   Vec3 normal = normals_[i];
@@ -317,7 +319,7 @@ planner::PoseCheck ColumnMap::CheckBox(const planner::GroundPose& ground, const 
   for (double x : {0.0, vehicle.wheelbase_m}) {
     for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
       const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
-      if (InRegion(config_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;
+      if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;
       double distance = 0.0;
       const int nearest = Nearest3d(contact, vehicle.wheel_support_m, &distance);
       if (nearest < 0 || !traversable_[static_cast<std::size_t>(nearest)]) return PoseCheck::kGroundUnderFootprint;

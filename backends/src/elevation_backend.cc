@@ -35,7 +35,8 @@ void ElevationMapBackend::Config::Validate() const {
   internal::CheckNormalRadius(map, grid.resolution_m, "elevation");
 }
 
-ElevationMapBackend::ElevationMapBackend(const Config& config) : config_(Validated(config)), grid_(config.grid) {}
+ElevationMapBackend::ElevationMapBackend(const Config& config, const Traversability::Config& faces)
+    : config_(Validated(config)), faces_(faces), grid_(config.grid) {}
 
 std::shared_ptr<const planner::PlanningMap> ElevationMapBackend::Update(const Points& points_L,
                                                                         const navigation::MapContext& context) {
@@ -53,7 +54,7 @@ std::shared_ptr<const planner::PlanningMap> ElevationMapBackend::Update(const Po
   stages_.push_back({"columns", MsSince(t)});
   if (columns.ground_z.empty()) return nullptr;
   t = Clock::now();
-  auto map = std::make_shared<const ColumnMap>(std::move(columns), internal::ColumnConfigFor(config_.map, context));
+  auto map = std::make_shared<const ColumnMap>(std::move(columns), config_.map, internal::GroundOf(context), faces_);
   stages_.push_back({"traversability", MsSince(t)});
   internal::ViewOf(*map, &view_points_, &view_traversable_);
   return map;

@@ -1,16 +1,6 @@
 #include "ovpc/backends/map_selection.h"
 
 namespace ovpc::backends {
-namespace {
-
-ColumnMap::Config WithFaceThresholds(ColumnMap::Config map, const Traversability::Config& faces) {
-  map.alpha_max_rad = faces.alpha_max_rad;
-  map.delta_h_max_m = faces.delta_h_max_m;
-  return map;
-}
-
-}  // namespace
-
 void MapSelection::Validate() const {
   octomap.Validate();
   elevation.Validate();
@@ -28,16 +18,8 @@ const char* MapKindName(MapSelection::Kind kind) {
 std::unique_ptr<navigation::MapBackend> MakeMapBackend(const MapSelection& selection,
                                                        const Traversability::Config& faces) {
   switch (selection.map) {
-    case MapSelection::Kind::kOctoMap: {
-      OctoMapBackend::Config c = selection.octomap;
-      c.map = WithFaceThresholds(c.map, faces);
-      return std::make_unique<OctoMapBackend>(c);
-    }
-    case MapSelection::Kind::kElevation: {
-      ElevationMapBackend::Config c = selection.elevation;
-      c.map = WithFaceThresholds(c.map, faces);
-      return std::make_unique<ElevationMapBackend>(c);
-    }
+    case MapSelection::Kind::kOctoMap: return std::make_unique<OctoMapBackend>(selection.octomap, faces);
+    case MapSelection::Kind::kElevation: return std::make_unique<ElevationMapBackend>(selection.elevation, faces);
     case MapSelection::Kind::kOvpc: break;
   }
   return nullptr;

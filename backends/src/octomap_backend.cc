@@ -29,7 +29,8 @@ void OctoMapBackend::Config::Validate() const {
   internal::CheckNormalRadius(map, resolution_m, "octomap");
 }
 
-OctoMapBackend::OctoMapBackend(const Config& config) : config_(Validated(config)), tree_(config.resolution_m) {}
+OctoMapBackend::OctoMapBackend(const Config& config, const Traversability::Config& faces)
+    : config_(Validated(config)), faces_(faces), tree_(config.resolution_m) {}
 
 std::shared_ptr<const planner::PlanningMap> OctoMapBackend::Update(const Points& points_L,
                                                                    const navigation::MapContext& context) {
@@ -44,7 +45,7 @@ std::shared_ptr<const planner::PlanningMap> OctoMapBackend::Update(const Points&
   stages_.push_back({"columns", MsSince(t)});
   if (columns.ground_z.empty()) return nullptr;  // nothing seen with free space above it
   t = Clock::now();
-  auto map = std::make_shared<const ColumnMap>(std::move(columns), internal::ColumnConfigFor(config_.map, context));
+  auto map = std::make_shared<const ColumnMap>(std::move(columns), config_.map, internal::GroundOf(context), faces_);
   stages_.push_back({"traversability", MsSince(t)});
   internal::ViewOf(*map, &view_points_, &view_traversable_);
   return map;

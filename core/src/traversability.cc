@@ -21,12 +21,12 @@ void Traversability::Config::Validate() const {
     throw std::invalid_argument("Traversability::Config: noise_floor must be in [0, delta_h_max), got " +
                                 std::to_string(noise_floor_m));
   }
-  if (!up.allFinite() || std::abs(up.norm() - 1.0) > 1e-6) {
-    throw std::invalid_argument("Traversability::Config: up must be a unit vector");
-  }
 }
 
-void ClassifyFaces(const Traversability::Config& config, FreeSpaceMesh* mesh) {
+void ClassifyFaces(const Traversability::Config& config, FreeSpaceMesh* mesh, const Vec3& up) {
+  if (!up.allFinite() || std::abs(up.norm() - 1.0) > 1e-6) {
+    throw std::invalid_argument("ClassifyFaces: up must be a unit vector");
+  }
   const std::size_t num_faces = mesh->triangles.size();
   mesh->face_normals.resize(num_faces);
   mesh->face_traversable.resize(num_faces);
@@ -57,10 +57,10 @@ void ClassifyFaces(const Traversability::Config& config, FreeSpaceMesh* mesh) {
     }
     const Vec3 normal = cross / norm;
     mesh->face_normals[f] = normal;
-    const double ha = a.dot(config.up), hb = b.dot(config.up), hc = c.dot(config.up);
+    const double ha = a.dot(up), hb = b.dot(up), hc = c.dot(up);
     const double spread = std::max({ha, hb, hc}) - std::min({ha, hb, hc});
     // angle < alpha_max  <=>  cos(angle) > cos(alpha_max); ceilings have cos(angle) < 0.
-    const double cos_angle = normal.dot(config.up);
+    const double cos_angle = normal.dot(up);
     // Below the noise floor only faces looking down more than 60 deg (ceilings, the underside of a
     // roof) keep the angle test: folds of noisy ground stand on edge or lean over a little.
     bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > -0.5);
@@ -70,7 +70,7 @@ void ClassifyFaces(const Traversability::Config& config, FreeSpaceMesh* mesh) {
       // the face lies within the noise floor of it, the face's own tilt is noise.
       const Vec3 local = vertex_area_normal[t[0]] + vertex_area_normal[t[1]] + vertex_area_normal[t[2]];
       const double local_norm = local.norm();
-      if (local_norm > 0.0 && local.dot(config.up) > cos_alpha_max * local_norm) {
+      if (local_norm > 0.0 && local.dot(up) > cos_alpha_max * local_norm) {
         const Vec3 n = local / local_norm;
         const double da = a.dot(n), db = b.dot(n), dc = c.dot(n);
         flat_enough = std::max({da, db, dc}) - std::min({da, db, dc}) < config.noise_floor_m;

@@ -23,11 +23,11 @@ std::shared_ptr<const planner::PlanningMap> OvpcMapBackend::Update(const Points&
   latest_ = mapper_.Update(points_L, Vec3::Zero());
   planning_map_ms_ = 0.0;
   if (!latest_.ok()) return nullptr;
-  planner::VertexCloudMap::Config map_config = config_.map;
-  map_config.ground_reference_z_m = context.T_L_B.translation().z();
-  map_config.known_support = context.known_support;
+  planner::GroundContext ground;
+  ground.ground_reference_z_m = context.T_L_B.translation().z();
+  ground.known_support = context.known_support;
   const auto t = Clock::now();
-  auto map = std::make_shared<const planner::VertexCloudMap>(latest_.cloud, map_config);
+  auto map = std::make_shared<const planner::VertexCloudMap>(latest_.cloud, config_.map, ground);
   planning_map_ms_ = MsSince(t);
   return map;
 }

@@ -23,7 +23,7 @@ constexpr int kMaxCells = 512;
 
 namespace {
 
-bool InRegion(const VertexCloudMap::Config::SupportRegion& r, double c, double s, double x_m, double y_m) {
+bool InRegion(const SupportRegion& r, double c, double s, double x_m, double y_m) {
   if (r.empty()) return false;
   const double dx = x_m - r.pose.x_m, dy = y_m - r.pose.y_m;
   const double along = c * dx + s * dy, across = -s * dx + c * dy;
@@ -32,14 +32,20 @@ bool InRegion(const VertexCloudMap::Config::SupportRegion& r, double c, double s
 
 }  // namespace
 
-bool VertexCloudMap::Config::SupportRegion::Contains(double x_m, double y_m) const {
+bool SupportRegion::Contains(double x_m, double y_m) const {
   return InRegion(*this, std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), x_m, y_m);
 }
 
-void VertexCloudMap::Config::Validate() const {
-  if (!std::isfinite(ground_reference_z_m)) {
-    throw std::invalid_argument("VertexCloudMap::Config: ground_reference_z_m must be finite");
+void GroundContext::Validate() const {
+  if (!std::isfinite(ground_reference_z_m)) throw std::invalid_argument("GroundContext: ground_reference_z_m must be finite");
+  const SupportRegion& r = known_support;
+  if (!std::isfinite(r.pose.x_m) || !std::isfinite(r.pose.y_m) || !std::isfinite(r.pose.yaw_rad) ||
+      !std::isfinite(r.min_x_m) || !std::isfinite(r.max_x_m) || !std::isfinite(r.half_width_m)) {
+    throw std::invalid_argument("GroundContext: known_support must be finite");
   }
+}
+
+void VertexCloudMap::Config::Validate() const {
   if (normal_neighbours < 1 || normal_neighbours > 64) {
     throw std::invalid_argument("VertexCloudMap::Config: normal_neighbours must be in [1, 64], got " +
                                 std::to_string(normal_neighbours));
@@ -51,24 +57,20 @@ void VertexCloudMap::Config::Validate() const {
     throw std::invalid_argument("VertexCloudMap::Config: max_projection_distance_m must be > 0, got " +
                                 std::to_string(max_projection_distance_m));
   }
-  const SupportRegion& r = known_support;
-  if (!std::isfinite(r.pose.x_m) || !std::isfinite(r.pose.y_m) || !std::isfinite(r.pose.yaw_rad) ||
-      !std::isfinite(r.min_x_m) || !std::isfinite(r.max_x_m) || !std::isfinite(r.half_width_m)) {
-    throw std::invalid_argument("VertexCloudMap::Config: known_support must be finite");
-  }
 }
 
-VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
-    : cloud_(std::move(cloud)), config_(config) {
+VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config, const GroundContext& ground)
+    : cloud_(std::move(cloud)), config_(config), ground_(ground) {
   config_.Validate();
+  ground_.Validate();
   for (std::size_t i = 0; i < cloud_.size(); ++i) {
     if (!cloud_.points()[i].allFinite() || !cloud_.normals()[i].allFinite()) {
       throw std::invalid_argument("VertexCloudMap: point " + std::to_string(i) + " of the cloud is not finite");
     }
   }
   if (config_.normal_neighbours > 1) fits_ = std::make_shared<FitCache>(cloud_.size());
-  support_cos_ = std::cos(config_.known_support.pose.yaw_rad);
-  support_sin_ = std::sin(config_.known_support.pose.yaw_rad);
+  support_cos_ = std::cos(ground_.known_support.pose.yaw_rad);
+  support_sin_ = std::sin(ground_.known_support.pose.yaw_rad);
   if (cloud_.empty()) return;  // empty bounds: every pose is outside the map
   bounds_.min_x_m = bounds_.min_y_m = std::numeric_limits<double>::infinity();
   bounds_.max_x_m = bounds_.max_y_m = -std::numeric_limits<double>::infinity();
@@ -116,7 +118,7 @@ VertexCloudMap::VertexCloudMap(TraversabilityCloud cloud, const Config& config)
 std::optional<int> VertexCloudMap::NearestIndex(const Pose2& pose) const {
   // Nearest visible point to the pose at the reference height, then again at the height found: on a
   // slope the first answer lies uphill or downhill of the pose, the second is close below it.
-  const auto first = cloud_.Nearest(Vec3(pose.x_m, pose.y_m, config_.ground_reference_z_m));
+  const auto first = cloud_.Nearest(Vec3(pose.x_m, pose.y_m, ground_.ground_reference_z_m));
   if (!first) return std::nullopt;
   const Vec3 query(pose.x_m, pose.y_m, cloud_.points()[first->index].z());
   const auto nearest = cloud_.Nearest(query);
@@ -253,7 +255,7 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
   for (double x : {0.0, vehicle.wheelbase_m}) {
     for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
       const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
-      if (InRegion(config_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;  // where the vehicle stands
+      if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;  // where the vehicle stands
       const auto nearest = cloud_.Nearest(contact);
       if (!nearest || nearest->distance_m > vehicle.wheel_support_m || !cloud_.traversable()[nearest->index]) {
         return PoseCheck::kGroundUnderFootprint;

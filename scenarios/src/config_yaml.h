@@ -1,6 +1,6 @@
 // Reading YAML into Configs: a map reader that names file, line and key in every error, and the
-// visitors that walk the Config field lists (navigation/config_fields.h, and the comparison
-// backends' backends/config_fields.h) to read and write them.
+// visitors that walk each Config's own declaration of its fields (VisitFields, see
+// ovpc/core/config_fields.h) to read and write them.
 #pragma once
 
 #include <algorithm>
@@ -23,15 +23,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include "format.h"
-#include "ovpc/backends/config_fields.h"
-#include "ovpc/navigation/config_fields.h"
+#include "ovpc/core/config_fields.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
 namespace ovpc::scenarios::internal {
-
-// The field lists of the robot's stack and of the comparison backends, one overload set.
-using backends::VisitFields;
-using navigation::VisitFields;
 
 inline std::string Where(const std::string& file, const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
@@ -207,10 +202,10 @@ class ConfigReader {
  public:
   explicit ConfigReader(MapReader& r) : r_(r) {}
   template <class T>
-  void Field(const char* key, T& value) {
+  void Field(const char* key, T& value, const char* /*unit*/, const char* /*why*/) {
     r_.Get(key, &value);
   }
-  void Field(const char* key, std::vector<double>& value) {
+  void Field(const char* key, std::vector<double>& value, const char* /*unit*/, const char* /*why*/) {
     const YAML::Node list = r_.Child(key);
     if (!list) return;
     if (!list.IsSequence()) r_.Fail(list, "'" + r_.Key(key) + "' must be a list of numbers");
@@ -218,16 +213,16 @@ class ConfigReader {
     for (const auto& item : list) value.push_back(r_.ConvertAt<double>(item, r_.Key(key)));
   }
   template <class E>
-  void Choice(const char* key, E& value, std::initializer_list<std::pair<const char*, E>> choices) {
+  void Choice(const char* key, E& value, Choices<E> choices, const char* /*why*/) {
     r_.GetChoice(key, choices, &value);
   }
   template <class C>
-  void Section(const char* key, C& config) {
+  void Section(const char* key, C& config, const char* /*why*/) {
     const YAML::Node node = r_.Child(key);
     if (!node) return;
     MapReader m(node, r_.Key(key), r_.file());
     ConfigReader sub(m);
-    VisitFields(sub, config);
+    ovpc::VisitFields(config, sub);
     m.Finish();
     if constexpr (HasValidate<C>::value) ValidateAt(r_.file(), node, r_.Key(key), [&config] { config.Validate(); });
   }
@@ -236,30 +231,30 @@ class ConfigReader {
   MapReader& r_;
 };
 
-/// Writes a Config as block-style YAML, keys in the field lists' order.
+/// Writes a Config as block-style YAML, keys in the order of its declaration.
 class YamlWriter {
  public:
   explicit YamlWriter(int indent = 0) : indent_(indent) {}
   template <class T>
-  void Field(const char* key, const T& value) {
+  void Field(const char* key, const T& value, const char* /*unit*/, const char* /*why*/) {
     Line(key) << Scalar(value) << "\n";
   }
-  void Field(const char* key, const std::vector<double>& value) {
+  void Field(const char* key, const std::vector<double>& value, const char* /*unit*/, const char* /*why*/) {
     Line(key) << "[";
     for (std::size_t i = 0; i < value.size(); ++i) out_ << (i ? ", " : "") << FormatNumber(value[i]);
     out_ << "]\n";
   }
   template <class E>
-  void Choice(const char* key, const E& value, std::initializer_list<std::pair<const char*, E>> choices) {
+  void Choice(const char* key, const E& value, Choices<E> choices, const char* /*why*/) {
     for (const auto& [name, choice] : choices) {
       if (choice == value) Line(key) << name << "\n";
     }
   }
   template <class C>
-  void Section(const char* key, C& config) {
+  void Section(const char* key, const C& config, const char* /*why*/) {
     out_ << std::string(indent_, ' ') << key << ":\n";
     indent_ += 2;
-    VisitFields(*this, config);
+    ovpc::VisitFields(config, *this);
     indent_ -= 2;
   }
   std::string str() const { return out_.str(); }
@@ -280,7 +275,7 @@ class YamlWriter {
 class JsonWriter {
  public:
   template <class T>
-  void Field(const char* key, const T& value) {
+  void Field(const char* key, const T& value, const char* /*unit*/, const char* /*why*/) {
     if constexpr (std::is_floating_point_v<T>) {
       if (std::isinf(value)) {
         json_[key] = value > 0 ? "inf" : "-inf";
@@ -290,15 +285,15 @@ class JsonWriter {
     json_[key] = value;
   }
   template <class E>
-  void Choice(const char* key, const E& value, std::initializer_list<std::pair<const char*, E>> choices) {
+  void Choice(const char* key, const E& value, Choices<E> choices, const char* /*why*/) {
     for (const auto& [name, choice] : choices) {
       if (choice == value) json_[key] = name;
     }
   }
   template <class C>
-  void Section(const char* key, C& config) {
+  void Section(const char* key, const C& config, const char* /*why*/) {
     JsonWriter sub;
-    VisitFields(sub, config);
+    ovpc::VisitFields(config, sub);
     json_[key] = sub.json_;
   }
   const nlohmann::json& json() const { return json_; }

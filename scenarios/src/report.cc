@@ -75,14 +75,12 @@ nlohmann::json DiagnosisJson(const Diagnosis& d) {
 
 // The run's effective configuration, as --print-config prints it.
 nlohmann::json RunConfigJson(const Scenario& scenario, std::uint64_t seed) {
-  navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
-  backends::MapSelection map_backends = scenario.map_backends;
-  internal::JsonWriter writer;
-  internal::VisitFields(writer, navigator);
-  internal::VisitFields(writer, map_backends);
-  return {{"navigator", writer.json()},
-          {"record", {{"record_rate_hz", scenario.record.record_rate_hz},
-                      {"mesh_snapshot_period_s", scenario.record.mesh_snapshot_period_s}}}};
+  const navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
+  internal::JsonWriter writer, record;
+  ovpc::VisitFields(navigator, writer);
+  ovpc::VisitFields(scenario.map_backends, writer);
+  ovpc::VisitFields(scenario.record, record);
+  return {{"navigator", writer.json()}, {"record", record.json()}};
 }
 
 }  // namespace

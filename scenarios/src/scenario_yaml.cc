@@ -231,8 +231,8 @@ void ReadObjects(const YAML::Node& list, const std::string& file, sim::World* w)
 }
 
 void ReadRecord(MapReader r, Recording::Config* c, const YAML::Node& node) {
-  r.Get("record_rate_hz", &c->record_rate_hz);
-  r.Get("mesh_snapshot_period_s", &c->mesh_snapshot_period_s);
+  ConfigReader reader(r);
+  ovpc::VisitFields(*c, reader);
   r.Finish();
   try {
     c->Validate();
@@ -247,8 +247,8 @@ void ReadNavigatorAndRecord(MapReader& r, Scenario* s) {
   if (const YAML::Node n = r.Child("navigator")) {
     MapReader m(n, "navigator", r.file());
     ConfigReader reader(m);
-    internal::VisitFields(reader, s->navigator);
-    internal::VisitFields(reader, s->map_backends);
+    ovpc::VisitFields(s->navigator, reader);
+    ovpc::VisitFields(s->map_backends, reader);
     m.Finish();
     // What holds across sections, with the geometry derived from the vehicle model.
     try {
@@ -385,7 +385,7 @@ void ApplyPreset(const Preset& preset, Scenario* s) {
   } catch (const YAML::ParserException& e) {
     throw ScenarioError(preset.file + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
   }
-  if (!root.IsMap()) throw ScenarioError(preset.file + ": a preset must be a mapping with 'navigator' and 'record'");
+  if (!root.IsMap()) throw ScenarioError(preset.file + ": a preset must be a mapping with 'navigator' (and, as --print-config writes it, 'record')");
   MapReader r(root, "", preset.file);
   ReadNavigatorAndRecord(r, s);
   r.Finish();
@@ -394,14 +394,12 @@ void ApplyPreset(const Preset& preset, Scenario* s) {
 }  // namespace
 
 std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed) {
-  navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
-  Recording::Config record = scenario.record;
-  backends::MapSelection map_backends = scenario.map_backends;
-  internal::YamlWriter nav(2);
-  internal::VisitFields(nav, navigator);
-  internal::VisitFields(nav, map_backends);
-  return "navigator:\n" + nav.str() + "record:\n  record_rate_hz: " + internal::FormatNumber(record.record_rate_hz) +
-         "\n  mesh_snapshot_period_s: " + internal::FormatNumber(record.mesh_snapshot_period_s) + "\n";
+  const navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
+  internal::YamlWriter nav(2), record(2);
+  ovpc::VisitFields(navigator, nav);
+  ovpc::VisitFields(scenario.map_backends, nav);
+  ovpc::VisitFields(scenario.record, record);
+  return "navigator:\n" + nav.str() + "record:\n" + record.str();
 }
 
 namespace {

@@ -51,22 +51,25 @@ Points Scan(const synth::Scene& scene) {
 // Ground level in frame L.
 constexpr double kGroundZ = -kSensorHeightM;
 
-ColumnMap::Config MapConfig() {
-  ColumnMap::Config c;
-  c.ground_reference_z_m = kGroundZ;
-  return c;
+ColumnMap::Config MapConfig() { return ColumnMap::Config{}; }
+
+// The vehicle's ground in frame L.
+planner::GroundContext Ground() {
+  planner::GroundContext ground;
+  ground.ground_reference_z_m = kGroundZ;
+  return ground;
 }
 
 std::unique_ptr<ColumnMap> OctoMapOf(const synth::Scene& scene, double resolution_m = 0.1) {
   OctoMapColumns tree(resolution_m);
   tree.Insert(Scan(scene), Vec3::Zero());
-  return std::make_unique<ColumnMap>(tree.Columns(), MapConfig());
+  return std::make_unique<ColumnMap>(tree.Columns(), MapConfig(), Ground());
 }
 
 std::unique_ptr<ColumnMap> ElevationOf(const synth::Scene& scene) {
   baselines::ElevationMap grid;  // 0.1 m cells, 50 m, the baseline's defaults
   grid.Update(Scan(scene), Vec3::Zero(), kGroundZ);
-  return std::make_unique<ColumnMap>(ElevationColumns(grid), MapConfig());
+  return std::make_unique<ColumnMap>(ElevationColumns(grid), MapConfig(), Ground());
 }
 
 // A carport: its roof's underside 2.5 m above the ground over x in [4, 8], y in [-3, 3].
@@ -259,7 +262,7 @@ TEST(ElevationColumnsTest, VehicleBoxRulesWorkThroughThePlanningMap) {
 TEST(ColumnMapTest, AnEmptyOrMismatchedGridIsHandled) {
   ColumnGrid empty;
   empty.Reset(0.1, 0.0, 0.0, 0, 0);
-  const ColumnMap map(empty, MapConfig());
+  const ColumnMap map(empty, MapConfig(), Ground());
   EXPECT_FALSE(map.Project(Pose2{0.0, 0.0, 0.0}).has_value());
   EXPECT_EQ(planner::CheckPose(map, Box(), Pose2{0.0, 0.0, 0.0}), PoseCheck::kOutsideMap);
   ColumnGrid bad;

@@ -76,11 +76,11 @@ TEST(MapSelectionTest, OvpcIsTheNavigatorsOwnAndTheOthersTakeItsFaceThresholds) 
   selection.map = MapSelection::Kind::kOctoMap;
   const auto octomap = MakeMapBackend(selection, faces);
   ASSERT_NE(octomap, nullptr);
-  EXPECT_DOUBLE_EQ(dynamic_cast<const OctoMapBackend&>(*octomap).config().map.alpha_max_rad, DegToRad(25.0));
+  EXPECT_DOUBLE_EQ(dynamic_cast<const OctoMapBackend&>(*octomap).faces().alpha_max_rad, DegToRad(25.0));
   selection.map = MapSelection::Kind::kElevation;
   const auto elevation = MakeMapBackend(selection, faces);
   ASSERT_NE(elevation, nullptr);
-  EXPECT_DOUBLE_EQ(dynamic_cast<const ElevationMapBackend&>(*elevation).config().map.delta_h_max_m, 0.2);
+  EXPECT_DOUBLE_EQ(dynamic_cast<const ElevationMapBackend&>(*elevation).faces().delta_h_max_m, 0.2);
 }
 
 // The message of the std::invalid_argument `validate` throws ("" when it throws none).

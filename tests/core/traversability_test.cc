@@ -174,9 +174,8 @@ TEST(TraversabilityTest, ConfigIsValidated) {
   config = Traversability::Config{};
   config.delta_h_max_m = -1.0;
   EXPECT_THROW(config.Validate(), std::invalid_argument);
-  config = Traversability::Config{};
-  config.up = Vec3(0, 0, 2);
-  EXPECT_THROW(config.Validate(), std::invalid_argument);
+  FreeSpaceMesh mesh;
+  EXPECT_THROW(ClassifyFaces(Traversability::Config{}, &mesh, Vec3(0, 0, 2)), std::invalid_argument);
 }
 
 TEST(TraversabilityTest, RoofIsNotTraversableAndTheGroundUnderItIs) {

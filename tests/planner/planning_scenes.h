@@ -96,9 +96,9 @@ inline PlanningScene BuildScene(const SceneSpec& spec) {
   OvpcMapper::Config mapper;
   mapper.ghpr.gamma = spec.gamma;
   scene.ovpc = OvpcMapper(mapper).Update(spec.MakeCloud(), viewpoint);
-  planner::VertexCloudMap::Config config;
-  config.ground_reference_z_m = viewpoint.z() - kSensorHeightM;
-  scene.map = std::make_shared<planner::VertexCloudMap>(scene.ovpc.cloud, config);
+  planner::GroundContext ground;
+  ground.ground_reference_z_m = viewpoint.z() - kSensorHeightM;
+  scene.map = std::make_shared<planner::VertexCloudMap>(scene.ovpc.cloud, planner::VertexCloudMap::Config{}, ground);
   return scene;
 }
 

@@ -177,29 +177,30 @@ TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {
   for (int i = -40; i <= 60; ++i) {
     for (int j = -30; j <= 30; ++j) add(Vec3(0.1 * i, 0.1 * j, 0.0), !artefact(0.1 * i, 0.1 * j));
   }
-  VertexCloudMap::Config config;
+  const VertexCloudMap::Config config;
+  GroundContext ground;
   const VertexCloudMap plain(TraversabilityCloud(points, normals, traversable), config);
   EXPECT_EQ(CheckPose(plain, wheels, pose), PoseCheck::kGroundUnderFootprint);
 
   // The vehicle stands at `pose`: its footprint grown by 0.3 m is known support.
-  config.known_support.pose = pose;
-  config.known_support.min_x_m = wheels.centre_ahead_m - 0.5 * wheels.length_m - 0.3;
-  config.known_support.max_x_m = wheels.centre_ahead_m + 0.5 * wheels.length_m + 0.3;
-  config.known_support.half_width_m = 0.5 * wheels.width_m + 0.3;
-  const VertexCloudMap supported(TraversabilityCloud(points, normals, traversable), config);
+  ground.known_support.pose = pose;
+  ground.known_support.min_x_m = wheels.centre_ahead_m - 0.5 * wheels.length_m - 0.3;
+  ground.known_support.max_x_m = wheels.centre_ahead_m + 0.5 * wheels.length_m + 0.3;
+  ground.known_support.half_width_m = 0.5 * wheels.width_m + 0.3;
+  const VertexCloudMap supported(TraversabilityCloud(points, normals, traversable), config, ground);
   EXPECT_EQ(CheckPose(supported, wheels, pose), PoseCheck::kValid);
   EXPECT_EQ(CheckPose(supported, wheels, Pose2{0.2, 0.0, 0.0}), PoseCheck::kValid);  // rear wheels still inside
   // Far enough that the rear left wheel is outside the region but on the artefact again: no.
   const Pose2 away{0.0, 0.0, kPi};  // turned round: the rear axle at the origin, front wheels at x = -1.9
-  config.known_support.pose = Pose2{-3.0, 0.0, 0.0};  // the region is elsewhere
-  const VertexCloudMap elsewhere(TraversabilityCloud(points, normals, traversable), config);
+  ground.known_support.pose = Pose2{-3.0, 0.0, 0.0};  // the region is elsewhere
+  const VertexCloudMap elsewhere(TraversabilityCloud(points, normals, traversable), config, ground);
   EXPECT_EQ(CheckPose(elsewhere, wheels, away), PoseCheck::kGroundUnderFootprint);
-  EXPECT_FALSE(config.known_support.Contains(0.0, 0.6));
+  EXPECT_FALSE(ground.known_support.Contains(0.0, 0.6));
 
   // A post inside the box blocks even on known support.
   add(Vec3(1.0, 0.3, 0.8), false);
-  config.known_support.pose = pose;
-  const VertexCloudMap post(TraversabilityCloud(points, normals, traversable), config);
+  ground.known_support.pose = pose;
+  const VertexCloudMap post(TraversabilityCloud(points, normals, traversable), config, ground);
   EXPECT_EQ(CheckPose(post, wheels, pose), PoseCheck::kCollision);
 }
 

@@ -12,6 +12,8 @@
 #include "ovpc/core/types.h"
 #include "ovpc/planner/planning_map.h"
 #include "ovpc/planner/vertex_cloud_map.h"
+#include "ovpc/core/config_fields.h"
+#include "ovpc/core/traversability.h"
 
 namespace ovpc::backends {
 
@@ -59,22 +61,24 @@ class ColumnMap final : public planner::PlanningMap {
     /// The ground plane at a candidate is fitted through the candidates of the columns within this
     /// planar distance and height difference (at least three, spanning a plane; otherwise level).
     double normal_radius_m = 0.5;
-    /// A candidate is traversable when its plane tilts less than alpha_max_rad from level and no
-    /// neighbouring column's nearest candidate differs in height by more than delta_h_max_m (the
-    /// values of the OVPC face test, Traversability::Config).
-    double alpha_max_rad = DegToRad(30.0);
-    double delta_h_max_m = 0.25;
-    /// Per update, as VertexCloudMap::Config: the vehicle's ground height in the map frame (picks
-    /// among a column's candidates) and the ground the vehicle stands on unseen.
-    double ground_reference_z_m = 0.0;
-    planner::VertexCloudMap::Config::SupportRegion known_support;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, max_projection_distance_m), "m", "farther from a column with ground a pose is unknown");
+      v.Field(OVPC_FIELD(c, normal_radius_m), "m", "the ground plane is fitted over the columns within this");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
 
   /// Fits the ground planes and judges every candidate.
   /// @throws std::invalid_argument for an invalid config or grid (sizes that do not match).
-  ColumnMap(ColumnGrid grid, const Config& config);
+  /// A candidate is traversable when its plane tilts less than `faces.alpha_max_rad` from level
+  /// and no neighbouring column's nearest candidate differs in height by more than
+  /// `faces.delta_h_max_m` (the OVPC face test's thresholds). `ground`, as for VertexCloudMap: the
+  /// vehicle's ground height in the map frame (picks among a column's candidates) and the ground
+  /// it stands on unseen.
+  ColumnMap(ColumnGrid grid, const Config& config, const planner::GroundContext& ground = {},
+            const Traversability::Config& faces = {});
 
   std::optional<planner::GroundPose> Project(const planner::Pose2& pose) const override;
   planner::PoseCheck CheckBox(const planner::GroundPose& ground, const planner::VehicleBox& vehicle) const override;
@@ -109,6 +113,8 @@ class ColumnMap final : public planner::PlanningMap {
 
   ColumnGrid grid_;
   Config config_;
+  planner::GroundContext ground_;
+  Traversability::Config faces_;
   std::vector<int> ground_column_;  // per candidate: its column
   std::vector<Vec3> normals_;
   std::vector<std::uint8_t> traversable_;

@@ -10,6 +10,7 @@
 #include "ovpc/core/types.h"
 #include "ovpc/navigation/map_backend.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::backends {
 
@@ -24,6 +25,11 @@ class ElevationMapBackend final : public navigation::MapBackend {
     baselines::ElevationMap::Config grid;
     /// As OctoMapBackend::Config::map.
     ColumnMap::Config map;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Section(OVPC_FIELD(c, grid), "baselines::ElevationMap, rebuilt per update");
+      v.Section(OVPC_FIELD(c, map), "the planner's view of the cells");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
@@ -31,7 +37,8 @@ class ElevationMapBackend final : public navigation::MapBackend {
   static constexpr double kMaxCellsPerSide = 2000.0;
 
   /// @throws std::invalid_argument for an invalid config.
-  explicit ElevationMapBackend(const Config& config);
+  /// `faces`: the OVPC face test's thresholds, which the ColumnMap judges with.
+  explicit ElevationMapBackend(const Config& config, const Traversability::Config& faces = {});
   std::shared_ptr<const planner::PlanningMap> Update(const Points& points_L,
                                                      const navigation::MapContext& context) override;
   navigation::MapView View() const override;
@@ -39,9 +46,11 @@ class ElevationMapBackend final : public navigation::MapBackend {
   /// fuse (the height grid), columns (reading it), traversability (ColumnMap: planes, steps).
   std::vector<navigation::MapStageTime> StageTimes() const override { return stages_; }
   const Config& config() const { return config_; }
+  const Traversability::Config& faces() const { return faces_; }
 
  private:
   Config config_;
+  Traversability::Config faces_;
   baselines::ElevationMap grid_;
   std::vector<navigation::MapStageTime> stages_;
   std::vector<Vec3> view_points_;

@@ -8,16 +8,24 @@
 #include "ovpc/backends/octomap_backend.h"
 #include "ovpc/core/traversability.h"
 #include "ovpc/navigation/map_backend.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::backends {
 
 /// The testbed's `navigator.map`, `navigator.octomap` and `navigator.elevation` (keys in
-/// backends/config_fields.h). The OVPC backend's settings are the navigator's own (Config::ovpc).
+/// its VisitFields). The OVPC backend's settings are the navigator's own (Config::ovpc).
 struct MapSelection {
   enum class Kind { kOvpc, kOctoMap, kElevation };
   Kind map = Kind::kOvpc;
   OctoMapBackend::Config octomap;
   ElevationMapBackend::Config elevation;
+  template <class C, class V>
+  static void VisitFields(C& c, V& v) {
+    v.Choice(OVPC_FIELD(c, map), Choices<Kind>{{"ovpc", Kind::kOvpc}, {"octomap", Kind::kOctoMap}, {"elevation", Kind::kElevation}},
+             "the testbed's map backend: ovpc (the navigator's own) or a comparison");
+    v.Section(OVPC_FIELD(c, octomap), "the OctoMap backend: a fresh OcTree per update");
+    v.Section(OVPC_FIELD(c, elevation), "the 2.5D elevation-map backend");
+  }
   /// Both sections, whichever backend runs.
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;

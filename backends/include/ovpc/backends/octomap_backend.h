@@ -10,6 +10,7 @@
 #include "ovpc/core/types.h"
 #include "ovpc/navigation/map_backend.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::backends {
 
@@ -22,14 +23,19 @@ class OctoMapBackend final : public navigation::MapBackend {
  public:
   struct Config {
     double resolution_m = 0.2;  ///< voxel edge
-    /// The planner's view. Its alpha_max_rad and delta_h_max_m are the OVPC face test's
-    /// (MakeMapBackend copies them); ground_reference_z_m and known_support are set per update.
+    /// The planner's view (its thresholds are the OVPC face test's, given to the constructor).
     ColumnMap::Config map;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, resolution_m), "m", "voxel edge (0.1 costs about 4x the update time)");
+      v.Section(OVPC_FIELD(c, map), "the planner's view of the columns");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
   /// @throws std::invalid_argument for an invalid config.
-  explicit OctoMapBackend(const Config& config);
+  /// `faces`: the OVPC face test's thresholds, which the ColumnMap judges with.
+  explicit OctoMapBackend(const Config& config, const Traversability::Config& faces = {});
   std::shared_ptr<const planner::PlanningMap> Update(const Points& points_L,
                                                      const navigation::MapContext& context) override;
   navigation::MapView View() const override;
@@ -37,9 +43,11 @@ class OctoMapBackend final : public navigation::MapBackend {
   /// insert (the OcTree), columns (reading it), traversability (ColumnMap: planes, steps).
   std::vector<navigation::MapStageTime> StageTimes() const override { return stages_; }
   const Config& config() const { return config_; }
+  const Traversability::Config& faces() const { return faces_; }
 
  private:
   Config config_;
+  Traversability::Config faces_;
   OctoMapColumns tree_;
   std::vector<navigation::MapStageTime> stages_;
   std::vector<Vec3> view_points_;

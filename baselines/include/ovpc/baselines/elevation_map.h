@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ovpc/core/types.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::baselines {
 
@@ -61,6 +62,16 @@ class ElevationMap {
     /// above; nothing cropped below).
     double min_height_above_base_m = -std::numeric_limits<double>::infinity();
     double max_height_above_base_m = 3.0;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, resolution_m), "m", "cell edge");
+      v.Field(OVPC_FIELD(c, length_m), "m", "covers the buffer's 25 m crop radius");
+      v.Field(OVPC_FIELD(c, mahalanobis_threshold), "", "gate on |z - h| / sqrt(P + R) (Fankhauser et al.)");
+      v.Field(OVPC_FIELD(c, sensor_sigma_m), "m", "VLP-16 range accuracy (assumption)");
+      v.Field(OVPC_FIELD(c, sensor_sigma_per_m), "m/m", "0.1 deg of angular error (assumption)");
+      v.Field(OVPC_FIELD(c, min_height_above_base_m), "m", "nothing cropped below");
+      v.Field(OVPC_FIELD(c, max_height_above_base_m), "m", "a roof below this is the height of the cells under it");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

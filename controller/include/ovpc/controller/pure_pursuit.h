@@ -9,6 +9,7 @@
 #include "ovpc/controller/command.h"
 #include "ovpc/core/types.h"
 #include "ovpc/planner/path.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::controller {
 
@@ -50,6 +51,20 @@ class PurePursuit {
     /// Standing (at the start or at a cusp), the vehicle waits until the measured steering angle is
     /// this close to the command, so that it does not set off on the wrong curve.
     double presteer_tolerance_rad = DegToRad(3.0);
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, target_speed_mps), "m/s", "paper");
+      v.Field(OVPC_FIELD(c, reverse_speed_mps), "m/s", "backwards more carefully (assumption)");
+      v.Field(OVPC_FIELD(c, creep_speed_mps), "m/s", "least speed while a stop is not reached");
+      v.Field(OVPC_FIELD(c, lookahead_gain_s), "s", "look-ahead distance per m/s");
+      v.Field(OVPC_FIELD(c, lookahead_min_m), "m", "");
+      v.Field(OVPC_FIELD(c, lookahead_max_m), "m", "");
+      v.Field(OVPC_FIELD(c, max_lateral_accel_mps2), "m/s^2", "v <= sqrt(a / |curvature|)");
+      v.Field(OVPC_FIELD(c, stop_decel_mps2), "m/s^2", "v <= sqrt(2 a d) before a stop");
+      v.Field(OVPC_FIELD(c, stop_tolerance_m), "m", "a cusp or the end counts as reached this close");
+      v.Field(OVPC_FIELD(c, standstill_mps), "m/s", "slower counts as stopped");
+      v.Field(OVPC_FIELD(c, presteer_tolerance_rad), "rad", "standing, steer to this close before setting off");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

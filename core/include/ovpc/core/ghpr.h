@@ -5,6 +5,7 @@
 
 #include "ovpc/core/free_space_mesh.h"
 #include "ovpc/core/types.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc {
 
@@ -22,6 +23,13 @@ struct Ghpr {
     /// exact and give the same mesh; CGAL's is slower and is the reference in tests and benchmarks.
     /// The incremental hull hands degenerate clouds (coplanar or duplicate points) to CGAL anyway.
     bool reference_hull = false;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Choice(OVPC_FIELD(c, kernel), Choices<GhprKernel>{{"exponential", GhprKernel::kExponential}, {"linear", GhprKernel::kLinear}},
+               "paper");
+      v.Field(OVPC_FIELD(c, gamma), "", "paper (exponential kernel; linear: m)");
+      v.Field(OVPC_FIELD(c, reference_hull), "", "CGAL's quickhull instead of the incremental hull (same mesh)");
+    }
     /// @throws std::invalid_argument if gamma is not finite or out of range for the kernel: in
     /// [-1, 0) for the exponential one, in (0, 1e7] m for the linear one.
     void Validate() const;

@@ -6,6 +6,7 @@
 #include "ovpc/core/ghpr.h"
 #include "ovpc/core/traversability.h"
 #include "ovpc/core/vertex_cloud.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc {
 
@@ -45,6 +46,12 @@ class OvpcMapper {
     Ghpr::Config ghpr;
     Traversability::Config traversability;
     double min_range_m = 1e-3;  ///< points closer to the viewpoint are dropped as "at the viewpoint" (>= 1e-5)
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Section(OVPC_FIELD(c, ghpr), "the paper's hidden point removal");
+      v.Section(OVPC_FIELD(c, traversability), "the paper's face test");
+      v.Field(OVPC_FIELD(c, min_range_m), "m", "closer points count as at the viewpoint");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ovpc/core/types.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc {
 
@@ -66,6 +67,17 @@ class PointCloudBuffer {
     std::size_t max_points = 14000;  ///< subsampling target (paper: 6,000-14,000 result points)
     std::uint64_t seed = 1;       ///< seed of the subsampling hash (of the voxel's index in O)
 
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, max_scans), "scans", "paper: 20-30");
+      v.Field(OVPC_FIELD(c, crop_radius_m), "m", "points farther from the current sensor are dropped");
+      v.Field(OVPC_FIELD(c, voxel_size_m), "m", "voxel filter edge; <= 0: no filter");
+      v.Field(OVPC_FIELD(c, min_hits), "points", "paper: voxels with fewer hits are outliers");
+      v.Field(OVPC_FIELD(c, near_range_m), "m", "within this of the sensor a voxel needs near_min_hits; 0: paper");
+      v.Field(OVPC_FIELD(c, near_min_hits), "points", "stray returns crowd near the sensor");
+      v.Field(OVPC_FIELD(c, max_points), "points", "paper: 6,000-14,000 result points");
+      v.Field(OVPC_FIELD(c, seed), "", "the subsampling hash's seed");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

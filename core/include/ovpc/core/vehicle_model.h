@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "ovpc/core/config_fields.h"
+
 #include "ovpc/core/types.h"
 
 namespace ovpc {
@@ -25,6 +27,18 @@ struct VehicleModel {
   /// Turning radius of the rear axle centre the planner plans with: about half the published 7.3 m
   /// turning circle (wider than full lock allows, wheelbase / tan(max steering) = 3.3 m).
   double turning_radius_m = 3.7;
+
+  template <class C, class V>
+  static void VisitFields(C& c, V& v) {
+    v.Field(OVPC_FIELD(c, length_m), "m", "the Gator TE (docs/REFERENCE.md)");
+    v.Field(OVPC_FIELD(c, width_m), "m", "the Gator TE");
+    v.Field(OVPC_FIELD(c, height_m), "m", "ground to the top of the sensor on its mast");
+    v.Field(OVPC_FIELD(c, rear_overhang_m), "m", "body behind the rear axle");
+    v.Field(OVPC_FIELD(c, wheelbase_m), "m", "the Gator TE");
+    v.Field(OVPC_FIELD(c, track_m), "m", "wheel centre to wheel centre across");
+    v.Field(OVPC_FIELD(c, max_steering_deg), "deg", "bicycle-model angle at the front axle's centre");
+    v.Field(OVPC_FIELD(c, turning_radius_m), "m", "the planner's Reeds-Shepp radius: half the 7.3 m turning circle");
+  }
 
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const {

@@ -18,7 +18,7 @@
 namespace ovpc::navigation {
 
 /// Ground the vehicle is known to stand on though the sensor never sees it (its own footprint).
-using SupportRegion = planner::VertexCloudMap::Config::SupportRegion;
+using SupportRegion = planner::SupportRegion;
 
 /// What a backend is told besides the cloud, all in the map frame L (origin at the viewpoint, axes
 /// of the odometry frame O, z up).

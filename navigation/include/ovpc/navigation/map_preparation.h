@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "ovpc/core/types.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::navigation {
 
@@ -41,6 +42,18 @@ struct MapPreparation {
     /// post until the vehicle is nearer. 0 disables.
     double isolated_point_radius_m = 0.0;
     double isolated_point_reach_m = 12.0;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, footprint_prior_margin_m), "m", "lay the unseen ground under the vehicle, grown by this; 0: off");
+      v.Choice(OVPC_FIELD(c, footprint_prior_mode), Choices<PriorMode>{{"replace", PriorMode::kReplace}, {"fill", PriorMode::kFill}},
+               "replace: a flat grid; fill: only where nothing was measured");
+      v.Field(OVPC_FIELD(c, footprint_prior_blend_m), "m", "fill: the grid blends into measured ground within this");
+      v.Field(OVPC_FIELD(c, footprint_grid_m), "m", "spacing of the footprint grid");
+      v.Field(OVPC_FIELD(c, footprint_edge_band_m), "m", "replace: measured ground kept this far off the grid's edge");
+      v.Field(OVPC_FIELD(c, body_margin_m), "m", "returns inside the vehicle's box grown by this are the vehicle");
+      v.Field(OVPC_FIELD(c, isolated_point_radius_m), "m", "lone points near the sensor are dropped; 0: off");
+      v.Field(OVPC_FIELD(c, isolated_point_reach_m), "m", "... within this of the sensor");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

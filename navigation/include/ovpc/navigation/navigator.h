@@ -91,6 +91,30 @@ class Navigator {
     /// ran on another thread (RunCyclesOnAWorkerThread). 0: at once (the cycle costs no time). At
     /// most the map period.
     double latency_s = 0.0;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, map_rate_hz), "Hz", "map-and-plan cycles per second (the paper gives none)");
+      v.Field(OVPC_FIELD(c, control_rate_hz), "Hz", "follower commands per second");
+      v.Section(OVPC_FIELD(c, vehicle), "the robot's own geometry");
+      v.Section(OVPC_FIELD(c, buffer), "the paper's point cloud buffer");
+      v.Section(OVPC_FIELD(c, preparation), "what happens to the buffered cloud before the map is made");
+      v.Section(OVPC_FIELD(c, ovpc), "the OVPC Mesh map backend");
+      v.Section(OVPC_FIELD(c, planner), "RRTConnect in Reeds-Shepp space (the paper's)");
+      v.Section(OVPC_FIELD(c, local_goal), "where each plan goes");
+      v.Section(OVPC_FIELD(c, replan), "the paper's triggers");
+      v.Section(OVPC_FIELD(c, follower), "pure pursuit");
+      v.Field(OVPC_FIELD(c, goal_candidates), "goals", "local goals tried per re-plan until one gives a path");
+      v.Field(OVPC_FIELD(c, route_end_any_heading), "", "the route's end may be reached at any heading");
+      v.Field(OVPC_FIELD(c, known_support_margin_m), "m", "the vehicle stands on its unseen footprint grown by this");
+      v.Field(OVPC_FIELD(c, blocked_stop_short_m), "m", "a blocked path is driven up to this far before the block");
+      v.Field(OVPC_FIELD(c, min_prefix_m), "m", "a shorter remaining prefix is dropped");
+      v.Field(OVPC_FIELD(c, keep_path_within_m), "m", "a periodic re-plan must be this much shorter; < 0: paper");
+      v.Field(OVPC_FIELD(c, cusp_cost_m), "m", "a change of direction counts this many metres");
+      v.Field(OVPC_FIELD(c, rollout_margin_m), "m", "the follower's rollout keeps the box grown by this clear; < 0: off");
+      v.Field(OVPC_FIELD(c, progress_back_m), "m", "route progress is tracked this far back");
+      v.Field(OVPC_FIELD(c, progress_ahead_m), "m", "... and this far ahead");
+      v.Field(OVPC_FIELD(c, latency_s), "s", "a cycle takes effect this long after its data; 0: at once");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
     /// The config with every geometry field derived from `vehicle` (what the navigator runs with).

@@ -9,6 +9,7 @@
 #include "ovpc/navigation/map_backend.h"
 #include "ovpc/planner/planning_map.h"
 #include "ovpc/planner/vertex_cloud_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::navigation {
 
@@ -18,9 +19,14 @@ class OvpcMapBackend final : public MapBackend {
  public:
   struct Config {
     OvpcMapper::Config mapper;
-    /// The planner's view of the vertex cloud. ground_reference_z_m and known_support are set per
-    /// update from the MapContext.
+    /// The planner's view of the vertex cloud (where the vehicle stands comes per update, from
+    /// the MapContext).
     planner::VertexCloudMap::Config map;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Section(OVPC_FIELD(c, mapper), "the paper's OVPC Mesh");
+      v.Section(OVPC_FIELD(c, map), "the planner's view of the vertex cloud");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::planner {
 
@@ -85,6 +86,25 @@ struct LocalGoalSelection {
     /// further on would skip the part in between; max_gap_m does not stop that when no gap lies
     /// between. Infinite: the whole route ahead (the paper's rule).
     double max_ahead_m = std::numeric_limits<double>::infinity();
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Choice(OVPC_FIELD(c, mode), Choices<Mode>{{"route", Mode::kRoute}, {"reachable", Mode::kReachable}},
+               "route: the farthest point on the route (paper); reachable: a cost-to-go field");
+      v.Field(OVPC_FIELD(c, cell_m), "m", "reachable: grid cell edge");
+      v.Field(OVPC_FIELD(c, reach_offset_penalty), "m/m", "reachable: per metre away from the route ahead");
+      v.Field(OVPC_FIELD(c, reach_support_m), "m", "reachable: known ground lies this near a visible point");
+      v.Field(OVPC_FIELD(c, min_distance_m), "m", "the goal is at least this far, unless the route's end");
+      v.Field(OVPC_FIELD(c, end_zone_m), "m", "route: the route's last metres count as its end");
+      v.Field(OVPC_FIELD(c, step_m), "m", "the route is examined at this spacing");
+      v.Field(OVPC_FIELD(c, require_vehicle_fit), "", "the vehicle box fits at the goal too");
+      v.Field(OVPC_FIELD(c, lateral_offsets_m), "m", "goals beside the route too; none: paper");
+      v.Field(OVPC_FIELD(c, lateral_offset_penalty), "m/m", "per metre of offset");
+      v.Field(OVPC_FIELD(c, previous_goal_penalty), "m/m", "reachable: per metre from the previous goal");
+      v.Field(OVPC_FIELD(c, unknown_cost), "m/m", "reachable: a metre of unseen ground costs this many");
+      v.Field(OVPC_FIELD(c, keep_previous_within_m), "m", "keep the previous goal unless beaten by this; 0: paper");
+      v.Field(OVPC_FIELD(c, max_gap_m), "m", "candidates end past a longer gap in known space; inf: paper");
+      v.Field(OVPC_FIELD(c, max_ahead_m), "m", "candidates up to this far ahead along the route; inf: paper");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

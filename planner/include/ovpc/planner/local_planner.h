@@ -10,6 +10,7 @@
 #include "ovpc/core/vehicle_model.h"
 #include "ovpc/planner/path.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::planner {
 
@@ -64,6 +65,15 @@ class LocalPlanner {
     /// Shortcut and vertex-reduction rounds of the path simplifier (0: no simplification).
     unsigned simplify_rounds = 2;
     std::uint32_t seed = 1;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Section(OVPC_FIELD(c, vehicle), "the vehicle box's rules");
+      v.Field(OVPC_FIELD(c, max_iterations), "iterations", "the budget, instead of the paper's 0.1 s");
+      v.Field(OVPC_FIELD(c, range_m), "m", "longest tree extension; 0: OMPL's fifth of the space");
+      v.Field(OVPC_FIELD(c, check_resolution_m), "m", "validity checks along a motion");
+      v.Field(OVPC_FIELD(c, output_resolution_m), "m", "spacing of the output poses");
+      v.Field(OVPC_FIELD(c, simplify_rounds), "rounds", "the path simplifier's; 0: none");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

@@ -9,6 +9,7 @@
 
 #include "ovpc/core/vehicle_model.h"
 #include "ovpc/planner/path.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::planner {
 
@@ -55,6 +56,22 @@ struct VehicleBox {
   /// across a slope within alpha_max the vehicle can still roll further than it safely may. 90: no
   /// limit (the paper's rule).
   double max_roll_deg = 90.0;
+  template <class C, class V>
+  static void VisitFields(C& c, V& v) {
+    v.Field(OVPC_FIELD(c, margin_m), "m", "added to every side and to the top");
+    v.Field(OVPC_FIELD(c, ground_clearance_m), "m", "the box bottom above the ground at the pose");
+    v.Field(OVPC_FIELD(c, footprint_depth_m), "m", "all_points: lower points under the footprint block too");
+    v.Choice(OVPC_FIELD(c, footprint_check),
+             Choices<FootprintCheck>{{"all_points", FootprintCheck::kAllPoints}, {"wheels", FootprintCheck::kWheels}},
+             "what must hold for the ground under the box; all_points: paper");
+    v.Field(OVPC_FIELD(c, wheel_support_m), "m", "wheels: farthest a wheel may be from a visible point");
+    v.Field(OVPC_FIELD(c, edge_tolerance_m), "m", "wheels: farther needs seen ground beyond; inf: off");
+    v.Choice(OVPC_FIELD(c, placement),
+             Choices<Placement>{{"nearest_point", Placement::kNearestPoint}, {"wheel_contacts", Placement::kWheelContacts}},
+             "how the box is placed on the ground; nearest_point: paper");
+    v.Field(OVPC_FIELD(c, max_tilt_deg), "deg", "wheel_contacts: steepest plane through the wheels");
+    v.Field(OVPC_FIELD(c, max_roll_deg), "deg", "the placed box's roll; 90: no limit (paper)");
+  }
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };

@@ -4,6 +4,8 @@
 
 #include <optional>
 
+#include "ovpc/core/config_fields.h"
+
 namespace ovpc::planner {
 
 enum class ReplanReason {
@@ -33,6 +35,14 @@ struct Replanning {
     /// on the spot. Up to the block the path is still valid. 0: every block triggers (the paper's
     /// rule).
     double unseen_block_near_m = 0.0;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, period_s), "s", "paper: a re-plan each second");
+      v.Field(OVPC_FIELD(c, goal_too_close_m), "m", "paper: a goal this near triggers a re-plan");
+      v.Field(OVPC_FIELD(c, blocked_confirmations), "updates", "a blocked path re-plans after this many; 1: paper");
+      v.Field(OVPC_FIELD(c, blocked_near_m), "m", "a block this near re-plans at once");
+      v.Field(OVPC_FIELD(c, unseen_block_near_m), "m", "a block by unseen ground re-plans this near; 0: paper");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

@@ -8,8 +8,34 @@
 
 #include "ovpc/core/vertex_cloud.h"
 #include "ovpc/planner/planning_map.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::planner {
+
+/// Ground known to carry the vehicle without being seen: the vehicle's own footprint (the sensor
+/// never sees the ground it stands on). A rectangle in the map's xy plane: `pose` (origin and
+/// heading), x from `min_x_m` to `max_x_m` along the heading, y within +-`half_width_m`. With
+/// FootprintCheck::kWheels, a wheel whose contact point lies in it is supported whatever the
+/// nearest visible point is; the box test for obstacles is unchanged. Empty (the default) when
+/// max_x_m <= min_x_m.
+struct SupportRegion {
+  Pose2 pose;
+  double min_x_m = 0.0, max_x_m = 0.0, half_width_m = 0.0;
+  bool empty() const { return !(max_x_m > min_x_m) || !(half_width_m > 0.0); }
+  bool Contains(double x_m, double y_m) const;
+};
+
+/// Where the vehicle stands in the map frame, given per update (not a setting).
+struct GroundContext {
+  /// Height of the ground near the vehicle in the map frame. The nearest-point search starts at
+  /// this height and is repeated once at the height found, so that it follows slopes and picks
+  /// the ground under a roof rather than the roof. With the mapper's frame (viewpoint at the
+  /// origin) it is minus the sensor height above the ground (-1.88 m on the paper's robot).
+  double ground_reference_z_m = 0.0;
+  SupportRegion known_support;
+  /// @throws std::invalid_argument if a value is not finite.
+  void Validate() const;
+};
 
 /// The paper's rule on the OVPC map: a planar pose is projected onto the nearest visible point (k-d
 /// tree), the vehicle box is aligned to that point's normal with the heading kept, and the box is
@@ -19,11 +45,6 @@ namespace ovpc::planner {
 class VertexCloudMap final : public PlanningMap {
  public:
   struct Config {
-    /// Height of the ground near the vehicle in the map frame. The nearest-point search starts at
-    /// this height and is repeated once at the height found, so that it follows slopes and picks
-    /// the ground under a roof rather than the roof. With the mapper's frame (viewpoint at the
-    /// origin) it is minus the sensor height above the ground (-1.88 m on the paper's robot).
-    double ground_reference_z_m = 0.0;
     /// A pose farther than this from its nearest visible point is outside known free space.
     double max_projection_distance_m = 0.75;
     /// The pose's ground plane passes through the nearest visible point. With `normal_neighbours`
@@ -35,26 +56,19 @@ class VertexCloudMap final : public PlanningMap {
     /// clearance: a false collision. The fitted plane averages the noise out over the neighbours.
     int normal_neighbours = 1;
     double normal_radius_m = 0.5;
-    /// Ground known to carry the vehicle without being seen: the vehicle's own footprint (the sensor
-    /// never sees the ground it stands on). A rectangle in the map's xy plane: `pose` (origin and
-    /// heading), x from `min_x_m` to `max_x_m` along the heading, y within +-`half_width_m`. With
-    /// FootprintCheck::kWheels, a wheel whose contact point lies in it is supported whatever the
-    /// nearest visible point is; the box test for obstacles is unchanged. Empty (the default) when
-    /// max_x_m <= min_x_m.
-    struct SupportRegion {
-      Pose2 pose;
-      double min_x_m = 0.0, max_x_m = 0.0, half_width_m = 0.0;
-      bool empty() const { return !(max_x_m > min_x_m) || !(half_width_m > 0.0); }
-      bool Contains(double x_m, double y_m) const;
-    };
-    SupportRegion known_support;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, max_projection_distance_m), "m", "farther from its nearest visible point a pose is unknown");
+      v.Field(OVPC_FIELD(c, normal_neighbours), "points", "1: the nearest point's vertex normal (paper)");
+      v.Field(OVPC_FIELD(c, normal_radius_m), "m", "the fitted plane's neighbours lie within this");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };
 
   /// @throws std::invalid_argument for an invalid config, or a cloud with a non-finite point or
   /// normal (naming its index; OvpcMapper never makes one).
-  VertexCloudMap(TraversabilityCloud cloud, const Config& config);
+  VertexCloudMap(TraversabilityCloud cloud, const Config& config, const GroundContext& ground = {});
 
   std::optional<GroundPose> Project(const Pose2& pose) const override;
   std::optional<GroundPose> ProjectForBox(const Pose2& pose) const override;
@@ -101,6 +115,7 @@ class VertexCloudMap final : public PlanningMap {
   };
   std::shared_ptr<FitCache> fits_;
   Config config_;
+  GroundContext ground_;
   // The known support region's heading, for the box test's wheel checks (made once per map).
   double support_cos_ = 1.0, support_sin_ = 0.0;
   MapBounds bounds_;

@@ -11,6 +11,7 @@
 #include "ovpc/backends/map_selection.h"
 #include "ovpc/navigation/navigator.h"
 #include "ovpc/sim/simulator.h"
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::scenarios {
 
@@ -44,6 +45,11 @@ struct Recording {
   struct Config {
     double record_rate_hz = 10.0;          ///< trajectory rows
     double mesh_snapshot_period_s = 10.0;  ///< mesh_*.ply snapshots (0: none)
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, record_rate_hz), "Hz", "trajectory.csv rows per simulated second");
+      v.Field(OVPC_FIELD(c, mesh_snapshot_period_s), "s", "mesh_*.ply snapshots; 0: none");
+    }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
   };

@@ -48,8 +48,9 @@ std::string NameProblem(const std::string& name, std::size_t max_bytes = kMaxNam
 /// unless `name` is a valid name.
 void ValidateName(const std::string& file, int line, const std::string& name, std::size_t max_bytes = kMaxNameBytes);
 
-/// The robot's configuration a scenario starts from: YAML with a `navigator:` section (the keys of
-/// navigation::VisitFields) and a `record:` section, and the file name that errors give.
+/// The robot's configuration a scenario starts from: YAML with a `navigator:` section (the keys the
+/// Configs declare in their VisitFields), optionally the testbed's `record:` section (the default
+/// preset has none: Recording::Config's defaults hold), and the file name that errors give.
 struct Preset {
   std::string yaml;
   std::string file;
@@ -72,8 +73,8 @@ Scenario LoadScenario(const std::string& path, const std::vector<std::string>& s
 Scenario ParseScenario(const std::string& yaml_text, const std::string& name_for_errors,
                        const std::vector<std::string>& settings = {}, const Preset& preset = DefaultPreset());
 
-/// The effective configuration of a run of `scenario` with `seed` as YAML (`navigator:` and
-/// `record:`, the preset's form): what `ovpc run --print-config` prints; a valid preset itself.
+/// The effective configuration of a run of `scenario` with `seed` as YAML (`navigator:`, then the
+/// testbed's `record:`): what `ovpc run --print-config` prints; a valid preset itself.
 std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed);
 
 }  // namespace ovpc::scenarios
