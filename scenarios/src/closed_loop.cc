@@ -63,12 +63,6 @@ navigation::Navigator::Plugins PluginsFor(const Scenario& scenario, const naviga
 
 }  // namespace
 
-navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed) {
-  navigation::Navigator::Config config = scenario.navigator;
-  config.planner.seed = static_cast<std::uint32_t>(seed);
-  return config.Derived();
-}
-
 RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunOptions& options) {
   scenario.Validate();
   const auto wall_start = Clock::now();

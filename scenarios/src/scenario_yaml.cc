@@ -14,7 +14,6 @@
 #include "config_yaml.h"
 #include "ovpc/core/internal/hash.h"
 #include "scenario_node.h"
-#include "ovpc/scenarios/closed_loop.h"
 
 namespace ovpc::scenarios {
 
@@ -337,6 +336,12 @@ void ApplySetting(YAML::Node root, const std::string& setting, const std::string
 void Recording::Config::Validate() const {
   if (!(record_rate_hz > 0.0) || !std::isfinite(record_rate_hz)) throw std::invalid_argument("record.record_rate_hz must be > 0");
   if (!(mesh_snapshot_period_s >= 0.0)) throw std::invalid_argument("record.mesh_snapshot_period_s must be >= 0");
+}
+
+navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed) {
+  navigation::Navigator::Config config = scenario.navigator;
+  config.planner.seed = static_cast<std::uint32_t>(seed);
+  return config.Derived();
 }
 
 void Scenario::Validate() const {

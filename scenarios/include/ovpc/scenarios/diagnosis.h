@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/run_result.h"
 
 namespace ovpc::scenarios {
 

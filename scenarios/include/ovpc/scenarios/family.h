@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/run_result.h"
 #include "ovpc/scenarios/expression.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 

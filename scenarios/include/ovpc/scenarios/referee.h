@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/run_result.h"
 #include "ovpc/scenarios/scenario.h"
 #include "ovpc/sim/gator.h"
 #include "ovpc/sim/simulator.h"

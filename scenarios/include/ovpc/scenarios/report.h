@@ -3,7 +3,8 @@
 
 #include <string>
 
-#include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/run_result.h"
+#include "ovpc/scenarios/scenario.h"
 
 namespace ovpc::scenarios {
 

@@ -2,6 +2,7 @@
 // criteria of one closed-loop run. Filled from YAML by LoadScenario (scenario_yaml.h).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -74,5 +75,9 @@ struct Scenario {
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };
+
+/// The navigator's configuration for a run: the scenario's, with the planner seeded from `seed` and
+/// the geometry derived from its vehicle model (what result.json records).
+navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed);
 
 }  // namespace ovpc::scenarios
