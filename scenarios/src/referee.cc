@@ -14,10 +14,6 @@ namespace {
 
 using internal::Fixed;
 
-// Route progress of the true pose is tracked in a window that moves with the vehicle, so that a
-// route passing near itself (laps side by side) is not scored as done when the vehicle cuts across.
-constexpr double kProgressBackM = 5.0, kProgressAheadM = 10.0;
-
 void RollPitchDeg(const Eigen::Isometry3d& T, double* roll_deg, double* pitch_deg) {
   const Eigen::Matrix3d& R = T.linear();
   *pitch_deg = RadToDeg(std::asin(std::clamp(-R(2, 0), -1.0, 1.0)));
@@ -68,6 +64,7 @@ Referee::Referee(const Scenario& scenario, const sim::GatorParams& vehicle, cons
     : scenario_(scenario),
       vehicle_(vehicle),
       last_position_(T_W_B.translation()),
+      route_(scenario.route_m),
       region_entered_(scenario.criteria.forbidden.size(), false) {}
 
 void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::vector<sim::BodyContact>& contacts) {
@@ -78,8 +75,9 @@ void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::
   max_roll_deg_ = std::max(max_roll_deg_, std::abs(roll));
   max_pitch_deg_ = std::max(max_pitch_deg_, std::abs(pitch));
   const Eigen::Vector2d xy = T_W_B.translation().head<2>();
-  progress_m_ = planner::RouteProgress(scenario_.route_m, xy, progress_m_, kProgressBackM, kProgressAheadM);
-  best_progress_m_ = std::max(best_progress_m_, progress_m_);
+  // In the route's order (a route that comes back beside itself is not done from its way out); a
+  // vehicle that cut a corner is scored from where it rejoins the route.
+  best_progress_m_ = std::max(best_progress_m_, route_.Update(xy));
   if (!contacts.empty()) {
     ++collision_steps_;
     if (collisions_.size() < 5) {

@@ -68,5 +68,31 @@ TEST(RefereeTest, AForbiddenRegionIsEnteredByTheFootprintOrOnlyByAWheel) {
   EXPECT_FALSE(CriterionPassed(in, "never_enter:wheels"));
 }
 
+// A route that comes back beside itself: a vehicle that turns back early and crosses to the return
+// lane is scored from where it rejoins the route, so min_progress holds when it drives the rest.
+TEST(RefereeTest, ACutUTurnIsScoredFromWhereTheVehicleRejoinsTheRoute) {
+  Scenario s;
+  s.sim.world.terrain.size_x_m = 60.0;
+  s.sim.world.terrain.size_y_m = 60.0;
+  s.route_m = {{0.0, 0.0}, {18.0, 0.0}, {18.0, 8.0}, {0.0, 8.0}};
+  s.criteria.min_progress_m = 40.0;
+  const sim::GatorParams gator;
+  Referee referee(s, gator, At(0.0, 0.0, 0.0));
+  double t = 0.0;
+  const auto drive = [&](Eigen::Vector2d a, Eigen::Vector2d b, double yaw) {
+    for (int i = 1; i <= 100; ++i) {
+      const Eigen::Vector2d p = a + (b - a) * (i / 100.0);
+      referee.Observe(t += 0.1, At(p.x(), p.y(), yaw), {});
+    }
+  };
+  drive({0.0, 0.0}, {8.0, 0.0}, 0.0);
+  drive({8.0, 0.0}, {8.0, 8.0}, kPi / 2);
+  drive({8.0, 8.0}, {0.0, 8.0}, kPi);
+  RunResult r;
+  referee.Score(&r);
+  EXPECT_NEAR(r.route_progress_m, 44.0, 1e-6);
+  EXPECT_TRUE(CriterionPassed(r, "min_progress"));
+}
+
 }  // namespace
 }  // namespace ovpc::scenarios

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "ovpc/planner/route_tracker.h"
 #include "ovpc/scenarios/run_result.h"
 #include "ovpc/scenarios/scenario.h"
 #include "ovpc/sim/gator.h"
@@ -40,7 +41,8 @@ class Referee {
   sim::GatorParams vehicle_;
   Eigen::Vector3d last_position_;
   double distance_m_ = 0.0, max_roll_deg_ = 0.0, max_pitch_deg_ = 0.0;
-  double progress_m_ = 0.0, best_progress_m_ = 0.0;
+  planner::RouteTracker route_;  ///< progress along the route in its order, from the truth
+  double best_progress_m_ = 0.0;
   std::size_t collision_steps_ = 0;
   std::vector<std::string> collisions_;
   std::vector<bool> region_entered_;
