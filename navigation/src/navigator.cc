@@ -312,11 +312,8 @@ bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::P
   controller::BicycleModel::Config model;
   model.wheelbase_m = config_.vehicle.wheelbase_m;
   model.max_steering_rad = DegToRad(config_.vehicle.max_steering_deg);
-  // The simulated Gator's steering servo and drive are faster than these limits (its wheels swing
-  // 0.4 rad within a control period or two); they only keep the model physical and on the
-  // cautious side.
-  model.max_steering_rate_radps = 4.0;
-  model.max_accel_mps2 = 1.0;
+  model.max_steering_rate_radps = config_.vehicle.max_steering_rate_radps;
+  model.max_accel_mps2 = config_.vehicle.max_accel_mps2;
   controller::BicycleModel::State start;
   start.pose = c.vehicle_L;
   start.speed_mps = job.speed_mps;
