@@ -155,7 +155,9 @@ struct Navigator::Job {
   double progress_m = 0.0;
   double speed_mps = 0.0;          // measured, and the steering commanded, at the launch
   double steering_rad = 0.0;
-  PlanState state;
+  PlanState state;                 // from the one in effect at the launch; replaces it at the effect
+  enum class Follow { kKeep, kFollow, kClear };
+  Follow follow = Follow::kKeep;   // what the follower is told when it takes effect
   // Results.
   CycleRecord record;
   std::vector<PlanAttempt> plans;
@@ -186,9 +188,9 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   // cutting a sharp corner (as a local goal across it invites) is far from the route, and the
   // nearest route point inside the window stays on the leg it left, which held the goal back at
   // the next corner (the corners family: rocking there until the time ran out).
-  if (last_goal_O_) {
-    const double to_goal = (here - Eigen::Vector2d(last_goal_O_->pose.x_m, last_goal_O_->pose.y_m)).norm();
-    progress_m_ = std::max(progress_m_, last_goal_O_->route_progress_m - to_goal);
+  if (const auto& goal = state_.last_goal_O) {
+    const double to_goal = (here - Eigen::Vector2d(goal->pose.x_m, goal->pose.y_m)).norm();
+    progress_m_ = std::max(progress_m_, goal->route_progress_m - to_goal);
   }
   bool took_effect = false;
   if (job_ && time_s + 1e-9 >= job_->effect_s) {
@@ -241,12 +243,7 @@ void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
   job.speed_mps = speed_mps_;
   job.steering_rad = command_.steering_rad;
   job.progress_m = progress_m_;
-  job.state.path_O = path_O_;
-  job.state.goal_O = goal_O_;
-  job.state.last_goal_O = last_goal_O_;
-  job.state.goal_is_route_end = goal_is_route_end_;
-  job.state.last_plan_s = last_plan_s_;
-  job.state.blocked_updates = blocked_updates_;
+  job.state = state_;
   if (worker_thread_ && config_.latency_s > 0.0) {
     if (!worker_) worker_ = std::make_unique<TaskThread>();  // kept for the navigator's life: its
     // thread-local scratch memory of the buffer and the map stays allocated
@@ -280,15 +277,9 @@ void Navigator::Finish() {
   for (const auto& [outcome, n] : job->plan_outcomes) stats_.plan_outcomes[outcome] += n;
   for (PlanAttempt& a : job->plans) plan_log_.push_back(std::move(a));
   cycles_.push_back(job->record);
-  PlanState& s = job->state;
-  path_O_ = std::move(s.path_O);
-  goal_O_ = s.goal_O;
-  last_goal_O_ = s.last_goal_O;
-  goal_is_route_end_ = s.goal_is_route_end;
-  last_plan_s_ = s.last_plan_s;
-  blocked_updates_ = s.blocked_updates;
-  if (s.follow == PlanState::Follow::kFollow) follower_->Follow(path_O_);
-  if (s.follow == PlanState::Follow::kClear) follower_->Clear();
+  state_ = std::move(job->state);
+  if (job->follow == Job::Follow::kFollow) follower_->Follow(state_.path_O);
+  if (job->follow == Job::Follow::kClear) follower_->Clear();
   // The scans that arrived while it ran (no cycle runs now: they go into the buffer).
   std::vector<Scan> incoming = std::move(incoming_);
   incoming_.clear();
@@ -413,7 +404,7 @@ void Navigator::MapCycle(Job* job) {
     record.trigger = planner::ReplanReasonName(reason);
     const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
     // The old path runs into something: drive only its valid part.
-    if (!found && blocked) KeepValidPrefix(&state, closest, blocked_index);
+    if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
   }
   record.plan_ms = MsSince(t);
   record.plan_cpu_ms = ThreadCpuMs() - cpu;
@@ -523,7 +514,7 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
     if (plan.found() && !plan.path.empty()) {
       ++job->replans_found;
       state.path_O = Shifted(plan.path, c.L_to_O);
-      state.follow = PlanState::Follow::kFollow;
+      job->follow = Job::Follow::kFollow;
       state.blocked_updates = 0;  // a new path
       state.goal_O = Eigen::Vector2d(goal.pose.x_m + c.L_to_O.x(), goal.pose.y_m + c.L_to_O.y());
       state.goal_is_route_end = goal.is_route_end;
@@ -548,7 +539,8 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
 
 // A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to
 // `blocked_stop_short_m` before it, or stand still if that is where the vehicle is.
-void Navigator::KeepValidPrefix(PlanState* state, std::size_t closest, std::size_t blocked_index) const {
+void Navigator::KeepValidPrefix(Job* job, std::size_t closest, std::size_t blocked_index) const {
+  PlanState* state = &job->state;
   const auto& poses = state->path_O.Poses();
   std::size_t last = blocked_index;
   double back = 0.0;
@@ -558,12 +550,12 @@ void Navigator::KeepValidPrefix(PlanState* state, std::size_t closest, std::size
   }
   planner::Path prefix = back >= config_.blocked_stop_short_m ? state->path_O.Slice(closest, last) : planner::Path{};
   if (prefix.empty() || prefix.Length() < config_.min_prefix_m) {
-    state->follow = PlanState::Follow::kClear;
+    job->follow = Job::Follow::kClear;
     state->path_O = planner::Path{};
     return;
   }
   state->path_O = std::move(prefix);
-  state->follow = PlanState::Follow::kFollow;
+  job->follow = Job::Follow::kFollow;
 }
 
 void Navigator::ClearRecords() {
