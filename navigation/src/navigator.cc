@@ -29,11 +29,18 @@ double NextTick(double time_s, double due_s, double period_s) {
   return time_s + 1e-9 >= after ? after + period_s : after;  // rounding may leave it at time_s
 }
 
-// A path in another frame with the same axes (the map frame L and the odometry frame O differ by a
-// translation).
-planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
-  return path.Shifted(offset.x(), offset.y(), offset.z());
-}
+// Between a cycle's map frame L and the odometry frame O: the two have the same axes, and L's origin
+// is at T_O_L's translation in O. Headings are the same in both.
+struct FrameChange {
+  Vec3 L_in_O = Vec3::Zero();
+
+  Pose2 ToL(const Pose2& p_O) const { return Pose2{p_O.x_m - L_in_O.x(), p_O.y_m - L_in_O.y(), p_O.yaw_rad}; }
+  Pose2 ToO(const Pose2& p_L) const { return Pose2{p_L.x_m + L_in_O.x(), p_L.y_m + L_in_O.y(), p_L.yaw_rad}; }
+  planner::Path ToL(const planner::Path& path_O) const {
+    return path_O.Shifted(-L_in_O.x(), -L_in_O.y(), -L_in_O.z());
+  }
+  planner::Path ToO(const planner::Path& path_L) const { return path_L.Shifted(L_in_O.x(), L_in_O.y(), L_in_O.z()); }
+};
 
 }  // namespace
 
@@ -293,7 +300,7 @@ struct Navigator::Cycle {
   Eigen::Isometry3d T_L_O = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();
   Pose2 vehicle_L;
-  Vec3 L_to_O = Vec3::Zero();  // the translation of L in O
+  FrameChange frame;  // between L and O
 };
 
 // The built-in follower driven along `path_L` from the cycle's vehicle pose (where the vehicle
@@ -351,7 +358,7 @@ void Navigator::MapCycle(Job* job) {
   c.T_L_O = cloud.T_O_L.inverse();
   c.T_L_B = c.T_L_O * T_O_B;
   c.vehicle_L = ToPose2(c.T_L_B);
-  c.L_to_O = cloud.T_O_L.translation();
+  c.frame.L_in_O = cloud.T_O_L.translation();
   MapContext context;
   context.T_L_B = c.T_L_B;
   if (config_.known_support_margin_m >= 0.0) {
@@ -391,8 +398,7 @@ void Navigator::MapCycle(Job* job) {
     const planner::PathPose at = state.path_O.Poses()[blocked_index];
     in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - T_O_B.translation().head<2>()).norm();
     if (config_.replan.unseen_block_near_m > 0.0) {
-      const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
-      const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, at_L);
+      const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, c.frame.ToL(at.pose));
       in.blocked_by_unseen_ground =
           why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
     }
@@ -423,7 +429,7 @@ bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest
     if (d < best) best = d, closest = i;
   }
   *closest_out = closest;
-  const auto invalid = planner_->FirstInvalidPose(*c.map, Shifted(path, -c.L_to_O), closest);
+  const auto invalid = planner_->FirstInvalidPose(*c.map, c.frame.ToL(path), closest);
   if (!invalid) return false;
   // A planner's index past the path's end counts as its last pose.
   *blocked_index = std::min(*invalid, poses.size() - 1);
@@ -450,13 +456,8 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
   PlanState& state = job->state;
   CycleRecord* cycle = &job->record;
   const planner::VehicleBox& box = config_.planner.vehicle;
-  std::optional<planner::LocalGoal> previous_L;
-  if (state.last_goal_O) {
-    previous_L = *state.last_goal_O;
-    const Vec3 p_L = c.T_L_O * Vec3(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m, 0.0);
-    previous_L->pose.x_m = p_L.x();
-    previous_L->pose.y_m = p_L.y();
-  }
+  std::optional<planner::LocalGoal> previous_L = state.last_goal_O;
+  if (previous_L) previous_L->pose = c.frame.ToL(previous_L->pose);
   const std::vector<planner::LocalGoal> goals =
       planner::SelectLocalGoals(*c.map, box, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal, previous_L,
                                 static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
@@ -467,8 +468,7 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
   record.T_L_B = c.T_L_B;
   record.vehicle_L = c.vehicle_L;
   if (blocked) {
-    const planner::PathPose at = state.path_O.Poses()[blocked_index];
-    const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
+    const Pose2 at_L = c.frame.ToL(state.path_O.Poses()[blocked_index].pose);
     record.blocked_at_m = std::hypot(at_L.x_m - c.vehicle_L.x_m, at_L.y_m - c.vehicle_L.y_m);
     record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, box, at_L));
   }
@@ -513,14 +513,13 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
     }
     if (plan.found() && !plan.path.empty()) {
       ++job->replans_found;
-      state.path_O = Shifted(plan.path, c.L_to_O);
+      state.path_O = c.frame.ToO(plan.path);
       job->follow = Job::Follow::kFollow;
       state.blocked_updates = 0;  // a new path
-      state.goal_O = Eigen::Vector2d(goal.pose.x_m + c.L_to_O.x(), goal.pose.y_m + c.L_to_O.y());
-      state.goal_is_route_end = goal.is_route_end;
       state.last_goal_O = goal;
-      state.last_goal_O->pose.x_m = state.goal_O->x();
-      state.last_goal_O->pose.y_m = state.goal_O->y();
+      state.last_goal_O->pose = c.frame.ToO(goal.pose);
+      state.goal_O = Eigen::Vector2d(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m);
+      state.goal_is_route_end = goal.is_route_end;
       found = true;
       break;
     }
