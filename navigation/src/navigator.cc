@@ -328,13 +328,9 @@ bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::P
   return false;
 }
 
-void Navigator::MapCycle(Job* job) {
-  CycleRecord& record = job->record;
-  const double time_s = job->time_s;
-  const Eigen::Isometry3d& T_O_B = job->T_O_B;
-  record.time_s = time_s;
-  auto t = Clock::now();
-  double cpu = ThreadCpuMs();
+// The buffered cloud in its frame L, with lone outliers dropped and the ground under the vehicle's
+// footprint laid in.
+PointCloudBuffer::LocalCloud Navigator::PrepareCloud(const Job& job) {
   PointCloudBuffer::LocalCloud cloud = buffer_.Build();
   const MapPreparation::Config& prep = config_.preparation;
   DropIsolatedPoints(prep.isolated_point_radius_m, prep.isolated_point_reach_m, &cloud.points_L);
@@ -347,21 +343,31 @@ void Navigator::MapCycle(Job* job) {
     footprint.body_margin_m = box.margin_m + prep.body_margin_m;
     footprint.ground_band_m = box.ground_clearance_m;
     footprint.top_m = box.height_m + box.margin_m + 0.05;
-    AddFootprintPrior(cloud.T_O_L.inverse() * T_O_B, footprint, prep, &cloud.points_L);
+    AddFootprintPrior(cloud.T_O_L.inverse() * job.T_O_B, footprint, prep, &cloud.points_L);
   }
+  return cloud;
+}
+
+void Navigator::MapCycle(Job* job) {
+  CycleRecord& record = job->record;
+  record.time_s = job->time_s;
+  auto t = Clock::now();
+  double cpu = ThreadCpuMs();
+  PointCloudBuffer::LocalCloud cloud = PrepareCloud(*job);
   record.prepare_ms = MsSince(t);
   record.prepare_cpu_ms = ThreadCpuMs() - cpu;
   record.cloud_points = cloud.points_L.size();
 
   Cycle c;
-  c.time_s = time_s;
+  c.time_s = job->time_s;
   c.T_L_O = cloud.T_O_L.inverse();
-  c.T_L_B = c.T_L_O * T_O_B;
+  c.T_L_B = c.T_L_O * job->T_O_B;
   c.vehicle_L = ToPose2(c.T_L_B);
   c.frame.L_in_O = cloud.T_O_L.translation();
   MapContext context;
   context.T_L_B = c.T_L_B;
   if (config_.known_support_margin_m >= 0.0) {
+    const planner::VehicleBox& box = config_.planner.vehicle;
     const double grow = config_.known_support_margin_m;
     context.known_support.pose = c.vehicle_L;
     context.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
@@ -382,13 +388,21 @@ void Navigator::MapCycle(Job* job) {
   c.map = job->map.get();
   job->planned = true;
 
-  PlanState& state = job->state;
   t = Clock::now();
   cpu = ThreadCpuMs();
+  CheckAndReplan(job, c);
+  record.plan_ms = MsSince(t);
+  record.plan_cpu_ms = ThreadCpuMs() - cpu;
+}
+
+// The re-plan triggers on the new map, and the re-plan if one fires.
+void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
+  PlanState& state = job->state;
+  const Eigen::Vector2d here_O = job->T_O_B.translation().head<2>();
   std::size_t closest = 0, blocked_index = 0;
   const bool blocked = PathBlocked(*job, c, &closest, &blocked_index);
   planner::ReplanInputs in;
-  in.now_s = time_s;
+  in.now_s = c.time_s;
   in.last_plan_s = state.last_plan_s;
   in.has_path = job->following;
   in.path_blocked = blocked;
@@ -396,24 +410,21 @@ void Navigator::MapCycle(Job* job) {
   in.blocked_updates = state.blocked_updates;
   if (blocked) {
     const planner::PathPose at = state.path_O.Poses()[blocked_index];
-    in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - T_O_B.translation().head<2>()).norm();
+    in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - here_O).norm();
     if (config_.replan.unseen_block_near_m > 0.0) {
       const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, c.frame.ToL(at.pose));
       in.blocked_by_unseen_ground =
           why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
     }
   }
-  in.distance_to_goal_m = state.goal_O ? (T_O_B.translation().head<2>() - *state.goal_O).norm() : 0.0;
+  in.distance_to_goal_m = state.goal_O ? (here_O - *state.goal_O).norm() : 0.0;
   in.goal_is_route_end = state.goal_is_route_end;
   const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
-  if (reason != planner::ReplanReason::kNone) {
-    record.trigger = planner::ReplanReasonName(reason);
-    const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
-    // The old path runs into something: drive only its valid part.
-    if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
-  }
-  record.plan_ms = MsSince(t);
-  record.plan_cpu_ms = ThreadCpuMs() - cpu;
+  if (reason == planner::ReplanReason::kNone) return;
+  job->record.trigger = planner::ReplanReasonName(reason);
+  const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
+  // The old path runs into something: drive only its valid part.
+  if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
 }
 
 bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest_out, std::size_t* blocked_index) const {
@@ -454,86 +465,99 @@ bool Navigator::NewPathIsBetter(const PlanState& state, const planner::Path& new
 bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
                        std::size_t blocked_index) {
   PlanState& state = job->state;
-  CycleRecord* cycle = &job->record;
-  const planner::VehicleBox& box = config_.planner.vehicle;
   std::optional<planner::LocalGoal> previous_L = state.last_goal_O;
   if (previous_L) previous_L->pose = c.frame.ToL(previous_L->pose);
   const std::vector<planner::LocalGoal> goals =
-      planner::SelectLocalGoals(*c.map, box, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal, previous_L,
-                                static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
+      planner::SelectLocalGoals(*c.map, config_.planner.vehicle, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal,
+                                previous_L, static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
   state.last_plan_s = c.time_s;
+  PlanAttempt record = AttemptRecord(*job, c, reason, blocked, blocked_index);
+  // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
+  bool found = false;
+  for (const planner::LocalGoal& goal : goals) {
+    const GoalTry result = TryGoal(job, c, record, goal, reason, closest);
+    found = result == GoalTry::kTaken;
+    if (result != GoalTry::kNext) break;
+  }
+  if (goals.empty()) {
+    ++job->plan_outcomes["no_local_goal"];
+    record.outcome = "no_local_goal";
+    job->plans.push_back(record);
+    job->record.outcome = record.outcome;
+  }
+  if (!found) state.last_goal_O.reset();  // no path to it: do not hold on to it
+  return found;
+}
+
+PlanAttempt Navigator::AttemptRecord(const Job& job, const Cycle& c, planner::ReplanReason reason, bool blocked,
+                                     std::size_t blocked_index) const {
   PlanAttempt record;
   record.time_s = c.time_s;
   record.reason = planner::ReplanReasonName(reason);
   record.T_L_B = c.T_L_B;
   record.vehicle_L = c.vehicle_L;
   if (blocked) {
-    const Pose2 at_L = c.frame.ToL(state.path_O.Poses()[blocked_index].pose);
+    const Pose2 at_L = c.frame.ToL(job.state.path_O.Poses()[blocked_index].pose);
     record.blocked_at_m = std::hypot(at_L.x_m - c.vehicle_L.x_m, at_L.y_m - c.vehicle_L.y_m);
-    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, box, at_L));
+    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, config_.planner.vehicle, at_L));
   }
-  // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
-  bool found = false;
-  for (const planner::LocalGoal& goal : goals) {
-    ++job->plan_calls;
-    // At the route's end only the position matters: heading straight there is a goal too.
-    std::vector<double> other_yaws;
-    if (goal.is_route_end && config_.route_end_any_heading) {
-      const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
-      if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
-    }
-    const planner::PlanResult plan = planner_->Plan(*c.map, c.vehicle_L, goal.pose, other_yaws);
-    std::string outcome = planner::PlanStatusName(plan.status);
-    if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
-    if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
-    ++job->plan_outcomes[outcome];
-    PlanAttempt attempt = record;
-    attempt.has_goal = true;
-    attempt.goal_L = goal.pose;
-    attempt.goal_progress_m = goal.route_progress_m;
-    attempt.outcome = outcome;
-    attempt.iterations = plan.iterations;
-    attempt.state_checks = plan.state_checks;
-    job->plans.push_back(attempt);
-    cycle->outcome = outcome;
-    if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
-        !NewPathIsBetter(state, plan.path, goal, closest)) {
-      // The current path stands: what is left of it is as good.
-      job->plans.back().outcome = cycle->outcome = "kept current";
-      ++job->plan_outcomes["kept current"];
-      found = true;
-      break;
-    }
-    if (plan.found() && !plan.path.empty() && config_.rollout_margin_m >= 0.0 && builtin_follower_ &&
-        RolloutCollides(*job, c, plan.path)) {
-      // The planner's poses are clear, but the follower would not keep to them.
-      job->plans.back().outcome = cycle->outcome = "rollout collision";
-      ++job->plan_outcomes["rollout collision"];
-      continue;
-    }
-    if (plan.found() && !plan.path.empty()) {
-      ++job->replans_found;
-      state.path_O = c.frame.ToO(plan.path);
-      job->follow = Job::Follow::kFollow;
-      state.blocked_updates = 0;  // a new path
-      state.last_goal_O = goal;
-      state.last_goal_O->pose = c.frame.ToO(goal.pose);
-      state.goal_O = Eigen::Vector2d(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m);
-      state.goal_is_route_end = goal.is_route_end;
-      found = true;
-      break;
-    }
-    // A start the planner rejects is rejected for every goal.
-    if (plan.status == planner::PlanStatus::kStartInvalid) break;
+  return record;
+}
+
+// One planner call to `goal`, recorded as an attempt (a copy of `record` with the goal and outcome).
+Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttempt& record,
+                                      const planner::LocalGoal& goal, planner::ReplanReason reason,
+                                      std::size_t closest) {
+  PlanState& state = job->state;
+  CycleRecord* cycle = &job->record;
+  ++job->plan_calls;
+  // At the route's end only the position matters: heading straight there is a goal too.
+  std::vector<double> other_yaws;
+  if (goal.is_route_end && config_.route_end_any_heading) {
+    const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
+    if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
   }
-  if (goals.empty()) {
-    ++job->plan_outcomes["no_local_goal"];
-    record.outcome = "no_local_goal";
-    job->plans.push_back(record);
-    cycle->outcome = record.outcome;
+  const planner::PlanResult plan = planner_->Plan(*c.map, c.vehicle_L, goal.pose, other_yaws);
+  std::string outcome = planner::PlanStatusName(plan.status);
+  if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
+  if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
+  ++job->plan_outcomes[outcome];
+  PlanAttempt attempt = record;
+  attempt.has_goal = true;
+  attempt.goal_L = goal.pose;
+  attempt.goal_progress_m = goal.route_progress_m;
+  attempt.outcome = outcome;
+  attempt.iterations = plan.iterations;
+  attempt.state_checks = plan.state_checks;
+  job->plans.push_back(attempt);
+  cycle->outcome = outcome;
+  if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
+      !NewPathIsBetter(state, plan.path, goal, closest)) {
+    // The current path stands: what is left of it is as good.
+    job->plans.back().outcome = cycle->outcome = "kept current";
+    ++job->plan_outcomes["kept current"];
+    return GoalTry::kTaken;
   }
-  if (!found) state.last_goal_O.reset();  // no path to it: do not hold on to it
-  return found;
+  if (plan.found() && !plan.path.empty() && config_.rollout_margin_m >= 0.0 && builtin_follower_ &&
+      RolloutCollides(*job, c, plan.path)) {
+    // The planner's poses are clear, but the follower would not keep to them.
+    job->plans.back().outcome = cycle->outcome = "rollout collision";
+    ++job->plan_outcomes["rollout collision"];
+    return GoalTry::kNext;
+  }
+  if (plan.found() && !plan.path.empty()) {
+    ++job->replans_found;
+    state.path_O = c.frame.ToO(plan.path);
+    job->follow = Job::Follow::kFollow;
+    state.blocked_updates = 0;  // a new path
+    state.last_goal_O = goal;
+    state.last_goal_O->pose = c.frame.ToO(goal.pose);
+    state.goal_O = Eigen::Vector2d(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m);
+    state.goal_is_route_end = goal.is_route_end;
+    return GoalTry::kTaken;
+  }
+  // A start the planner rejects is rejected for every goal.
+  return plan.status == planner::PlanStatus::kStartInvalid ? GoalTry::kStop : GoalTry::kNext;
 }
 
 // A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to

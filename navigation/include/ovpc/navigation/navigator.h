@@ -201,9 +201,18 @@ class Navigator {
   bool RolloutCollides(const Job& job, const Cycle& c, const planner::Path& path_L) const;
   void Finish();
   void MapCycle(Job* job);
+  // MapCycle's steps: the buffered cloud made ready for the map; the re-plan triggers checked and acted on.
+  PointCloudBuffer::LocalCloud PrepareCloud(const Job& job);
+  void CheckAndReplan(Job* job, const Cycle& c);
   bool PathBlocked(const Job& job, const Cycle& c, std::size_t* closest, std::size_t* blocked_index) const;
   bool Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
               std::size_t blocked_index);
+  // Replan's steps: the record its attempts share; one goal tried.
+  PlanAttempt AttemptRecord(const Job& job, const Cycle& c, planner::ReplanReason reason, bool blocked,
+                            std::size_t blocked_index) const;
+  enum class GoalTry { kNext, kTaken, kStop };  // try the next goal; the cycle has its path; no goal will do
+  GoalTry TryGoal(Job* job, const Cycle& c, const PlanAttempt& record, const planner::LocalGoal& goal,
+                  planner::ReplanReason reason, std::size_t closest);
   /// Periodic re-plans: is the new path (to `goal`) worth more than what is left of the current one?
   bool NewPathIsBetter(const PlanState& state, const planner::Path& new_path_L, const planner::LocalGoal& goal,
                        std::size_t closest) const;
