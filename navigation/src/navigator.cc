@@ -29,11 +29,18 @@ double NextTick(double time_s, double due_s, double period_s) {
   return time_s + 1e-9 >= after ? after + period_s : after;  // rounding may leave it at time_s
 }
 
-// A path in another frame with the same axes (the map frame L and the odometry frame O differ by a
-// translation).
-planner::Path Shifted(const planner::Path& path, const Vec3& offset) {
-  return path.Shifted(offset.x(), offset.y(), offset.z());
-}
+// Between a cycle's map frame L and the odometry frame O: the two have the same axes, and L's origin
+// is at T_O_L's translation in O. Headings are the same in both.
+struct FrameChange {
+  Vec3 L_in_O = Vec3::Zero();
+
+  Pose2 ToL(const Pose2& p_O) const { return Pose2{p_O.x_m - L_in_O.x(), p_O.y_m - L_in_O.y(), p_O.yaw_rad}; }
+  Pose2 ToO(const Pose2& p_L) const { return Pose2{p_L.x_m + L_in_O.x(), p_L.y_m + L_in_O.y(), p_L.yaw_rad}; }
+  planner::Path ToL(const planner::Path& path_O) const {
+    return path_O.Shifted(-L_in_O.x(), -L_in_O.y(), -L_in_O.z());
+  }
+  planner::Path ToO(const planner::Path& path_L) const { return path_L.Shifted(L_in_O.x(), L_in_O.y(), L_in_O.z()); }
+};
 
 }  // namespace
 
@@ -155,7 +162,9 @@ struct Navigator::Job {
   double progress_m = 0.0;
   double speed_mps = 0.0;          // measured, and the steering commanded, at the launch
   double steering_rad = 0.0;
-  PlanState state;
+  PlanState state;                 // from the one in effect at the launch; replaces it at the effect
+  enum class Follow { kKeep, kFollow, kClear };
+  Follow follow = Follow::kKeep;   // what the follower is told when it takes effect
   // Results.
   CycleRecord record;
   std::vector<PlanAttempt> plans;
@@ -186,9 +195,9 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   // cutting a sharp corner (as a local goal across it invites) is far from the route, and the
   // nearest route point inside the window stays on the leg it left, which held the goal back at
   // the next corner (the corners family: rocking there until the time ran out).
-  if (last_goal_O_) {
-    const double to_goal = (here - Eigen::Vector2d(last_goal_O_->pose.x_m, last_goal_O_->pose.y_m)).norm();
-    progress_m_ = std::max(progress_m_, last_goal_O_->route_progress_m - to_goal);
+  if (const auto& goal = state_.last_goal_O) {
+    const double to_goal = (here - Eigen::Vector2d(goal->pose.x_m, goal->pose.y_m)).norm();
+    progress_m_ = std::max(progress_m_, goal->route_progress_m - to_goal);
   }
   bool took_effect = false;
   if (job_ && time_s + 1e-9 >= job_->effect_s) {
@@ -241,12 +250,7 @@ void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
   job.speed_mps = speed_mps_;
   job.steering_rad = command_.steering_rad;
   job.progress_m = progress_m_;
-  job.state.path_O = path_O_;
-  job.state.goal_O = goal_O_;
-  job.state.last_goal_O = last_goal_O_;
-  job.state.goal_is_route_end = goal_is_route_end_;
-  job.state.last_plan_s = last_plan_s_;
-  job.state.blocked_updates = blocked_updates_;
+  job.state = state_;
   if (worker_thread_ && config_.latency_s > 0.0) {
     if (!worker_) worker_ = std::make_unique<TaskThread>();  // kept for the navigator's life: its
     // thread-local scratch memory of the buffer and the map stays allocated
@@ -280,15 +284,9 @@ void Navigator::Finish() {
   for (const auto& [outcome, n] : job->plan_outcomes) stats_.plan_outcomes[outcome] += n;
   for (PlanAttempt& a : job->plans) plan_log_.push_back(std::move(a));
   cycles_.push_back(job->record);
-  PlanState& s = job->state;
-  path_O_ = std::move(s.path_O);
-  goal_O_ = s.goal_O;
-  last_goal_O_ = s.last_goal_O;
-  goal_is_route_end_ = s.goal_is_route_end;
-  last_plan_s_ = s.last_plan_s;
-  blocked_updates_ = s.blocked_updates;
-  if (s.follow == PlanState::Follow::kFollow) follower_->Follow(path_O_);
-  if (s.follow == PlanState::Follow::kClear) follower_->Clear();
+  state_ = std::move(job->state);
+  if (job->follow == Job::Follow::kFollow) follower_->Follow(state_.path_O);
+  if (job->follow == Job::Follow::kClear) follower_->Clear();
   // The scans that arrived while it ran (no cycle runs now: they go into the buffer).
   std::vector<Scan> incoming = std::move(incoming_);
   incoming_.clear();
@@ -302,7 +300,7 @@ struct Navigator::Cycle {
   Eigen::Isometry3d T_L_O = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();
   Pose2 vehicle_L;
-  Vec3 L_to_O = Vec3::Zero();  // the translation of L in O
+  FrameChange frame;  // between L and O
 };
 
 // The built-in follower driven along `path_L` from the cycle's vehicle pose (where the vehicle
@@ -312,11 +310,8 @@ bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::P
   controller::BicycleModel::Config model;
   model.wheelbase_m = config_.vehicle.wheelbase_m;
   model.max_steering_rad = DegToRad(config_.vehicle.max_steering_deg);
-  // The simulated Gator's steering servo and drive are faster than these limits (its wheels swing
-  // 0.4 rad within a control period or two); they only keep the model physical and on the
-  // cautious side.
-  model.max_steering_rate_radps = 4.0;
-  model.max_accel_mps2 = 1.0;
+  model.max_steering_rate_radps = config_.vehicle.max_steering_rate_radps;
+  model.max_accel_mps2 = config_.vehicle.max_accel_mps2;
   controller::BicycleModel::State start;
   start.pose = c.vehicle_L;
   start.speed_mps = job.speed_mps;
@@ -333,13 +328,9 @@ bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::P
   return false;
 }
 
-void Navigator::MapCycle(Job* job) {
-  CycleRecord& record = job->record;
-  const double time_s = job->time_s;
-  const Eigen::Isometry3d& T_O_B = job->T_O_B;
-  record.time_s = time_s;
-  auto t = Clock::now();
-  double cpu = ThreadCpuMs();
+// The buffered cloud in its frame L, with lone outliers dropped and the ground under the vehicle's
+// footprint laid in.
+PointCloudBuffer::LocalCloud Navigator::PrepareCloud(const Job& job) {
   PointCloudBuffer::LocalCloud cloud = buffer_.Build();
   const MapPreparation::Config& prep = config_.preparation;
   DropIsolatedPoints(prep.isolated_point_radius_m, prep.isolated_point_reach_m, &cloud.points_L);
@@ -352,21 +343,31 @@ void Navigator::MapCycle(Job* job) {
     footprint.body_margin_m = box.margin_m + prep.body_margin_m;
     footprint.ground_band_m = box.ground_clearance_m;
     footprint.top_m = box.height_m + box.margin_m + 0.05;
-    AddFootprintPrior(cloud.T_O_L.inverse() * T_O_B, footprint, prep, &cloud.points_L);
+    AddFootprintPrior(cloud.T_O_L.inverse() * job.T_O_B, footprint, prep, &cloud.points_L);
   }
+  return cloud;
+}
+
+void Navigator::MapCycle(Job* job) {
+  CycleRecord& record = job->record;
+  record.time_s = job->time_s;
+  auto t = Clock::now();
+  double cpu = ThreadCpuMs();
+  PointCloudBuffer::LocalCloud cloud = PrepareCloud(*job);
   record.prepare_ms = MsSince(t);
   record.prepare_cpu_ms = ThreadCpuMs() - cpu;
   record.cloud_points = cloud.points_L.size();
 
   Cycle c;
-  c.time_s = time_s;
+  c.time_s = job->time_s;
   c.T_L_O = cloud.T_O_L.inverse();
-  c.T_L_B = c.T_L_O * T_O_B;
+  c.T_L_B = c.T_L_O * job->T_O_B;
   c.vehicle_L = ToPose2(c.T_L_B);
-  c.L_to_O = cloud.T_O_L.translation();
+  c.frame.L_in_O = cloud.T_O_L.translation();
   MapContext context;
   context.T_L_B = c.T_L_B;
   if (config_.known_support_margin_m >= 0.0) {
+    const planner::VehicleBox& box = config_.planner.vehicle;
     const double grow = config_.known_support_margin_m;
     context.known_support.pose = c.vehicle_L;
     context.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
@@ -387,13 +388,21 @@ void Navigator::MapCycle(Job* job) {
   c.map = job->map.get();
   job->planned = true;
 
-  PlanState& state = job->state;
   t = Clock::now();
   cpu = ThreadCpuMs();
+  CheckAndReplan(job, c);
+  record.plan_ms = MsSince(t);
+  record.plan_cpu_ms = ThreadCpuMs() - cpu;
+}
+
+// The re-plan triggers on the new map, and the re-plan if one fires.
+void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
+  PlanState& state = job->state;
+  const Eigen::Vector2d here_O = job->T_O_B.translation().head<2>();
   std::size_t closest = 0, blocked_index = 0;
   const bool blocked = PathBlocked(*job, c, &closest, &blocked_index);
   planner::ReplanInputs in;
-  in.now_s = time_s;
+  in.now_s = c.time_s;
   in.last_plan_s = state.last_plan_s;
   in.has_path = job->following;
   in.path_blocked = blocked;
@@ -401,25 +410,21 @@ void Navigator::MapCycle(Job* job) {
   in.blocked_updates = state.blocked_updates;
   if (blocked) {
     const planner::PathPose at = state.path_O.Poses()[blocked_index];
-    in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - T_O_B.translation().head<2>()).norm();
+    in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - here_O).norm();
     if (config_.replan.unseen_block_near_m > 0.0) {
-      const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
-      const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, at_L);
+      const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, c.frame.ToL(at.pose));
       in.blocked_by_unseen_ground =
           why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
     }
   }
-  in.distance_to_goal_m = state.goal_O ? (T_O_B.translation().head<2>() - *state.goal_O).norm() : 0.0;
+  in.distance_to_goal_m = state.goal_O ? (here_O - *state.goal_O).norm() : 0.0;
   in.goal_is_route_end = state.goal_is_route_end;
   const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
-  if (reason != planner::ReplanReason::kNone) {
-    record.trigger = planner::ReplanReasonName(reason);
-    const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
-    // The old path runs into something: drive only its valid part.
-    if (!found && blocked) KeepValidPrefix(&state, closest, blocked_index);
-  }
-  record.plan_ms = MsSince(t);
-  record.plan_cpu_ms = ThreadCpuMs() - cpu;
+  if (reason == planner::ReplanReason::kNone) return;
+  job->record.trigger = planner::ReplanReasonName(reason);
+  const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
+  // The old path runs into something: drive only its valid part.
+  if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
 }
 
 bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest_out, std::size_t* blocked_index) const {
@@ -435,7 +440,7 @@ bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest
     if (d < best) best = d, closest = i;
   }
   *closest_out = closest;
-  const auto invalid = planner_->FirstInvalidPose(*c.map, Shifted(path, -c.L_to_O), closest);
+  const auto invalid = planner_->FirstInvalidPose(*c.map, c.frame.ToL(path), closest);
   if (!invalid) return false;
   // A planner's index past the path's end counts as its last pose.
   *blocked_index = std::min(*invalid, poses.size() - 1);
@@ -460,98 +465,105 @@ bool Navigator::NewPathIsBetter(const PlanState& state, const planner::Path& new
 bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
                        std::size_t blocked_index) {
   PlanState& state = job->state;
-  CycleRecord* cycle = &job->record;
-  const planner::VehicleBox& box = config_.planner.vehicle;
-  std::optional<planner::LocalGoal> previous_L;
-  if (state.last_goal_O) {
-    previous_L = *state.last_goal_O;
-    const Vec3 p_L = c.T_L_O * Vec3(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m, 0.0);
-    previous_L->pose.x_m = p_L.x();
-    previous_L->pose.y_m = p_L.y();
-  }
+  std::optional<planner::LocalGoal> previous_L = state.last_goal_O;
+  if (previous_L) previous_L->pose = c.frame.ToL(previous_L->pose);
   const std::vector<planner::LocalGoal> goals =
-      planner::SelectLocalGoals(*c.map, box, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal, previous_L,
-                                static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
+      planner::SelectLocalGoals(*c.map, config_.planner.vehicle, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal,
+                                previous_L, static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
   state.last_plan_s = c.time_s;
+  PlanAttempt record = AttemptRecord(*job, c, reason, blocked, blocked_index);
+  // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
+  bool found = false;
+  for (const planner::LocalGoal& goal : goals) {
+    const GoalTry result = TryGoal(job, c, record, goal, reason, closest);
+    found = result == GoalTry::kTaken;
+    if (result != GoalTry::kNext) break;
+  }
+  if (goals.empty()) {
+    ++job->plan_outcomes["no_local_goal"];
+    record.outcome = "no_local_goal";
+    job->plans.push_back(record);
+    job->record.outcome = record.outcome;
+  }
+  if (!found) state.last_goal_O.reset();  // no path to it: do not hold on to it
+  return found;
+}
+
+PlanAttempt Navigator::AttemptRecord(const Job& job, const Cycle& c, planner::ReplanReason reason, bool blocked,
+                                     std::size_t blocked_index) const {
   PlanAttempt record;
   record.time_s = c.time_s;
   record.reason = planner::ReplanReasonName(reason);
   record.T_L_B = c.T_L_B;
   record.vehicle_L = c.vehicle_L;
   if (blocked) {
-    const planner::PathPose at = state.path_O.Poses()[blocked_index];
-    const Pose2 at_L{at.pose.x_m - c.L_to_O.x(), at.pose.y_m - c.L_to_O.y(), at.pose.yaw_rad};
+    const Pose2 at_L = c.frame.ToL(job.state.path_O.Poses()[blocked_index].pose);
     record.blocked_at_m = std::hypot(at_L.x_m - c.vehicle_L.x_m, at_L.y_m - c.vehicle_L.y_m);
-    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, box, at_L));
+    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, config_.planner.vehicle, at_L));
   }
-  // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
-  bool found = false;
-  for (const planner::LocalGoal& goal : goals) {
-    ++job->plan_calls;
-    // At the route's end only the position matters: heading straight there is a goal too.
-    std::vector<double> other_yaws;
-    if (goal.is_route_end && config_.route_end_any_heading) {
-      const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
-      if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
-    }
-    const planner::PlanResult plan = planner_->Plan(*c.map, c.vehicle_L, goal.pose, other_yaws);
-    std::string outcome = planner::PlanStatusName(plan.status);
-    if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
-    if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
-    ++job->plan_outcomes[outcome];
-    PlanAttempt attempt = record;
-    attempt.has_goal = true;
-    attempt.goal_L = goal.pose;
-    attempt.goal_progress_m = goal.route_progress_m;
-    attempt.outcome = outcome;
-    attempt.iterations = plan.iterations;
-    attempt.state_checks = plan.state_checks;
-    job->plans.push_back(attempt);
-    cycle->outcome = outcome;
-    if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
-        !NewPathIsBetter(state, plan.path, goal, closest)) {
-      // The current path stands: what is left of it is as good.
-      job->plans.back().outcome = cycle->outcome = "kept current";
-      ++job->plan_outcomes["kept current"];
-      found = true;
-      break;
-    }
-    if (plan.found() && !plan.path.empty() && config_.rollout_margin_m >= 0.0 && builtin_follower_ &&
-        RolloutCollides(*job, c, plan.path)) {
-      // The planner's poses are clear, but the follower would not keep to them.
-      job->plans.back().outcome = cycle->outcome = "rollout collision";
-      ++job->plan_outcomes["rollout collision"];
-      continue;
-    }
-    if (plan.found() && !plan.path.empty()) {
-      ++job->replans_found;
-      state.path_O = Shifted(plan.path, c.L_to_O);
-      state.follow = PlanState::Follow::kFollow;
-      state.blocked_updates = 0;  // a new path
-      state.goal_O = Eigen::Vector2d(goal.pose.x_m + c.L_to_O.x(), goal.pose.y_m + c.L_to_O.y());
-      state.goal_is_route_end = goal.is_route_end;
-      state.last_goal_O = goal;
-      state.last_goal_O->pose.x_m = state.goal_O->x();
-      state.last_goal_O->pose.y_m = state.goal_O->y();
-      found = true;
-      break;
-    }
-    // A start the planner rejects is rejected for every goal.
-    if (plan.status == planner::PlanStatus::kStartInvalid) break;
+  return record;
+}
+
+// One planner call to `goal`, recorded as an attempt (a copy of `record` with the goal and outcome).
+Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttempt& record,
+                                      const planner::LocalGoal& goal, planner::ReplanReason reason,
+                                      std::size_t closest) {
+  PlanState& state = job->state;
+  CycleRecord* cycle = &job->record;
+  ++job->plan_calls;
+  // At the route's end only the position matters: heading straight there is a goal too.
+  std::vector<double> other_yaws;
+  if (goal.is_route_end && config_.route_end_any_heading) {
+    const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
+    if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
   }
-  if (goals.empty()) {
-    ++job->plan_outcomes["no_local_goal"];
-    record.outcome = "no_local_goal";
-    job->plans.push_back(record);
-    cycle->outcome = record.outcome;
+  const planner::PlanResult plan = planner_->Plan(*c.map, c.vehicle_L, goal.pose, other_yaws);
+  std::string outcome = planner::PlanStatusName(plan.status);
+  if (plan.status == planner::PlanStatus::kStartInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.start_check);
+  if (plan.status == planner::PlanStatus::kGoalInvalid) outcome += std::string(":") + planner::PoseCheckName(plan.goal_check);
+  ++job->plan_outcomes[outcome];
+  PlanAttempt attempt = record;
+  attempt.has_goal = true;
+  attempt.goal_L = goal.pose;
+  attempt.goal_progress_m = goal.route_progress_m;
+  attempt.outcome = outcome;
+  attempt.iterations = plan.iterations;
+  attempt.state_checks = plan.state_checks;
+  job->plans.push_back(attempt);
+  cycle->outcome = outcome;
+  if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
+      !NewPathIsBetter(state, plan.path, goal, closest)) {
+    // The current path stands: what is left of it is as good.
+    job->plans.back().outcome = cycle->outcome = "kept current";
+    ++job->plan_outcomes["kept current"];
+    return GoalTry::kTaken;
   }
-  if (!found) state.last_goal_O.reset();  // no path to it: do not hold on to it
-  return found;
+  if (plan.found() && !plan.path.empty() && config_.rollout_margin_m >= 0.0 && builtin_follower_ &&
+      RolloutCollides(*job, c, plan.path)) {
+    // The planner's poses are clear, but the follower would not keep to them.
+    job->plans.back().outcome = cycle->outcome = "rollout collision";
+    ++job->plan_outcomes["rollout collision"];
+    return GoalTry::kNext;
+  }
+  if (plan.found() && !plan.path.empty()) {
+    ++job->replans_found;
+    state.path_O = c.frame.ToO(plan.path);
+    job->follow = Job::Follow::kFollow;
+    state.blocked_updates = 0;  // a new path
+    state.last_goal_O = goal;
+    state.last_goal_O->pose = c.frame.ToO(goal.pose);
+    state.goal_O = Eigen::Vector2d(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m);
+    state.goal_is_route_end = goal.is_route_end;
+    return GoalTry::kTaken;
+  }
+  // A start the planner rejects is rejected for every goal.
+  return plan.status == planner::PlanStatus::kStartInvalid ? GoalTry::kStop : GoalTry::kNext;
 }
 
 // A blocked path that no new plan replaces is still valid up to the blocked pose: drive on to
 // `blocked_stop_short_m` before it, or stand still if that is where the vehicle is.
-void Navigator::KeepValidPrefix(PlanState* state, std::size_t closest, std::size_t blocked_index) const {
+void Navigator::KeepValidPrefix(Job* job, std::size_t closest, std::size_t blocked_index) const {
+  PlanState* state = &job->state;
   const auto& poses = state->path_O.Poses();
   std::size_t last = blocked_index;
   double back = 0.0;
@@ -561,12 +573,12 @@ void Navigator::KeepValidPrefix(PlanState* state, std::size_t closest, std::size
   }
   planner::Path prefix = back >= config_.blocked_stop_short_m ? state->path_O.Slice(closest, last) : planner::Path{};
   if (prefix.empty() || prefix.Length() < config_.min_prefix_m) {
-    state->follow = PlanState::Follow::kClear;
+    job->follow = Job::Follow::kClear;
     state->path_O = planner::Path{};
     return;
   }
   state->path_O = std::move(prefix);
-  state->follow = PlanState::Follow::kFollow;
+  job->follow = Job::Follow::kFollow;
 }
 
 void Navigator::ClearRecords() {

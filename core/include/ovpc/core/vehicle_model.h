@@ -27,6 +27,11 @@ struct VehicleModel {
   /// Turning radius of the rear axle centre the planner plans with: about half the published 7.3 m
   /// turning circle (wider than full lock allows, wheelbase / tan(max steering) = 3.3 m).
   double turning_radius_m = 3.7;
+  /// The steering servo's and the drive's limits the robot's rollout of its follower assumes. The
+  /// simulated Gator's are faster (its wheels swing 0.4 rad within a control period or two); these
+  /// only keep the model physical and on the cautious side.
+  double max_steering_rate_radps = 4.0;
+  double max_accel_mps2 = 1.0;      ///< also the braking limit
 
   template <class C, class V>
   static void VisitFields(C& c, V& v) {
@@ -38,6 +43,8 @@ struct VehicleModel {
     v.Field(OVPC_FIELD(c, track_m), "m", "wheel centre to wheel centre across");
     v.Field(OVPC_FIELD(c, max_steering_deg), "deg", "bicycle-model angle at the front axle's centre");
     v.Field(OVPC_FIELD(c, turning_radius_m), "m", "the planner's Reeds-Shepp radius: half the 7.3 m turning circle");
+    v.Field(OVPC_FIELD(c, max_steering_rate_radps), "rad/s", "the rollout's steering servo (the simulated Gator's is faster)");
+    v.Field(OVPC_FIELD(c, max_accel_mps2), "m/s^2", "the rollout's drive, braking too (cautious)");
   }
 
   /// @throws std::invalid_argument naming the offending field.
@@ -52,6 +59,8 @@ struct VehicleModel {
     in_range(wheelbase_m, 20.0, "wheelbase_m", "(0, 20] m");
     in_range(track_m, 10.0, "track_m", "(0, 10] m");
     in_range(turning_radius_m, 100.0, "turning_radius_m", "(0, 100] m");
+    in_range(max_steering_rate_radps, 100.0, "max_steering_rate_radps", "(0, 100] rad/s");
+    in_range(max_accel_mps2, 100.0, "max_accel_mps2", "(0, 100] m/s^2");
     if (!(rear_overhang_m >= 0.0) || !(rear_overhang_m < length_m)) {
       throw std::invalid_argument("vehicle.rear_overhang_m must be in [0, length_m)");
     }

@@ -156,12 +156,12 @@ class Navigator {
   // What a user looks at.
   const controller::Command& command() const { return command_; }
   /// The current path (odometry frame O); empty when the vehicle stands.
-  const planner::Path& path_O() const { return path_O_; }
+  const planner::Path& path_O() const { return state_.path_O; }
   bool has_path() const { return follower_->has_path(); }
   /// The vehicle has reached the end of a path whose goal is the route's end.
-  bool route_end_reached() const { return follower_->has_path() && follower_->done() && goal_is_route_end_; }
+  bool route_end_reached() const { return follower_->has_path() && follower_->done() && state_.goal_is_route_end; }
   /// The current local goal (odometry frame), if a path leads to one.
-  const std::optional<Eigen::Vector2d>& goal_O() const { return goal_O_; }
+  const std::optional<Eigen::Vector2d>& goal_O() const { return state_.goal_O; }
   /// The latest map (null before the first good cycle), in the frame of its cycle, T_O_L.
   const std::shared_ptr<const planner::PlanningMap>& map() const { return map_; }
   const Eigen::Isometry3d& map_T_O_L() const { return map_T_O_L_; }
@@ -185,8 +185,8 @@ class Navigator {
   const Config& config() const { return config_; }
 
  private:
-  // The re-planning state a cycle reads and changes: copied into a cycle when it starts, put back
-  // when its result takes effect.
+  // The re-planning state (odometry frame O). The navigator keeps the one in effect; a cycle starts
+  // from a copy of it and, when its result takes effect, its copy replaces it.
   struct PlanState {
     planner::Path path_O;
     std::optional<Eigen::Vector2d> goal_O;          // the local goal the current path leads to
@@ -194,8 +194,6 @@ class Navigator {
     bool goal_is_route_end = false;
     std::optional<double> last_plan_s;
     int blocked_updates = 0;                        // map cycles in a row that found the path blocked
-    enum class Follow { kKeep, kFollow, kClear };
-    Follow follow = Follow::kKeep;                  // what the follower is told when it takes effect
   };
   struct Job;    // one cycle: its inputs, state and results
   struct Cycle;  // map-frame helpers of one cycle
@@ -203,13 +201,22 @@ class Navigator {
   bool RolloutCollides(const Job& job, const Cycle& c, const planner::Path& path_L) const;
   void Finish();
   void MapCycle(Job* job);
+  // MapCycle's steps: the buffered cloud made ready for the map; the re-plan triggers checked and acted on.
+  PointCloudBuffer::LocalCloud PrepareCloud(const Job& job);
+  void CheckAndReplan(Job* job, const Cycle& c);
   bool PathBlocked(const Job& job, const Cycle& c, std::size_t* closest, std::size_t* blocked_index) const;
   bool Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
               std::size_t blocked_index);
+  // Replan's steps: the record its attempts share; one goal tried.
+  PlanAttempt AttemptRecord(const Job& job, const Cycle& c, planner::ReplanReason reason, bool blocked,
+                            std::size_t blocked_index) const;
+  enum class GoalTry { kNext, kTaken, kStop };  // try the next goal; the cycle has its path; no goal will do
+  GoalTry TryGoal(Job* job, const Cycle& c, const PlanAttempt& record, const planner::LocalGoal& goal,
+                  planner::ReplanReason reason, std::size_t closest);
   /// Periodic re-plans: is the new path (to `goal`) worth more than what is left of the current one?
   bool NewPathIsBetter(const PlanState& state, const planner::Path& new_path_L, const planner::LocalGoal& goal,
                        std::size_t closest) const;
-  void KeepValidPrefix(PlanState* state, std::size_t closest, std::size_t blocked_index) const;
+  void KeepValidPrefix(Job* job, std::size_t closest, std::size_t blocked_index) const;
 
   Config config_;
   std::vector<Eigen::Vector2d> route_O_;
@@ -223,13 +230,7 @@ class Navigator {
   controller::Command command_;
   double speed_mps_ = 0.0;  // measured, at the last control tick
   bool builtin_follower_ = true;  // no follower plug-in: the rollout models the follower
-  // Re-planning state (in effect).
-  planner::Path path_O_;
-  std::optional<Eigen::Vector2d> goal_O_;
-  std::optional<planner::LocalGoal> last_goal_O_;
-  bool goal_is_route_end_ = false;
-  std::optional<double> last_plan_s_;
-  int blocked_updates_ = 0;
+  PlanState state_;  // the re-planning state in effect
   double progress_m_ = 0.0;
   // The cycle started and not yet in effect, and the scans that arrived meanwhile.
   std::unique_ptr<Job> job_;
