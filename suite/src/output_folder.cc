@@ -11,12 +11,13 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "ovpc/scenarios/recorder.h"
+
 namespace ovpc::suite {
 namespace {
 
 namespace fs = std::filesystem;
 
-bool StartsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
@@ -74,8 +75,8 @@ bool IsRunFile(const std::string& name) {
   for (const char* f : kFiles) {
     if (name == f) return true;
   }
-  return (StartsWith(name, "mesh_") && (EndsWith(name, ".ply") || EndsWith(name, ".ply.part"))) ||
-         (StartsWith(name, "frame_") && EndsWith(name, ".png")) || EndsWith(name, ".part");
+  // The pictures by the Recorder's own rule; a write cut short leaves a .part or .partial file.
+  return scenarios::IsRecorderPicture(name) || EndsWith(name, ".part") || EndsWith(name, ".partial");
 }
 
 void MakeFolder(const fs::path& dir) {
