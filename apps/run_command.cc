@@ -42,7 +42,7 @@ int RunScenario(const RunOptions& o) {
   }
   const std::uint64_t seed = o.seed_opt->count() ? o.seed : scenario.seed;
   if (o.print_config) {
-    std::cout << scenarios::FormatRunConfig(scenario, seed);
+    std::cout << scenarios::FormatRunConfig(scenario);
     return kExitOk;
   }
   scenarios::RunOptions options;
@@ -105,7 +105,7 @@ Runner RegisterRun(CLI::App& app) {
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
   cmd->add_option("--threads", o->threads,
                   "Threads for the run: with 2 the robot maps and plans beside the simulation for "
-                  "navigator.latency_s (0.1 s in the preset) and the ray cast is shared; the trajectory is the same "
+                  "navigator.timing.latency_s (0.1 s in the preset) and the ray cast is shared; the trajectory is the same "
                   "with 1 or 2")
       ->check(CLI::Range(1, 2))
       ->capture_default_str();

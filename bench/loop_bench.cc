@@ -2,7 +2,7 @@
 //
 // For each scenario (default: carport_2p5, flat_posts, rough_ground, slope_20 at seed 1, with the
 // default preset) it runs the closed loop with one thread and with two (the navigator's
-// map-and-plan cycle beside the simulation for navigator.latency_s, and the ray cast shared),
+// map-and-plan cycle beside the simulation for navigator.timing.latency_s, and the ray cast shared),
 // alternating, and prints the medians over the repetitions of:
 //   - the wall-clock real-time factor with 1 and with 2 threads, and their ratio;
 //   - the CPU time per simulated second of the one-thread run (the whole process: every thread);
@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   std::printf("\nmedians of %d repetitions, seed %llu; RTF: simulated s per wall s, with 1 thread and with %d (the "
-              "map-and-plan cycle beside the simulation for navigator.latency_s); ms/s: per simulated second\n",
+              "map-and-plan cycle beside the simulation for navigator.timing.latency_s); ms/s: per simulated second\n",
               reps, static_cast<unsigned long long>(seed), threads);
   return status;
 }

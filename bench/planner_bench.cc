@@ -46,13 +46,12 @@ void BM_Plan(benchmark::State& state) {
   std::uint32_t seed = 0;
   for (auto _ : state) {
     planner::LocalPlanner::Config config;
-    config.seed = ++seed;
     if (state.range(1) > 0) config.max_iterations = static_cast<unsigned>(state.range(1));
     if (state.range(2) != 0) {
       config.range_m = 1.0;
       config.vehicle.footprint_check = planner::VehicleBox::FootprintCheck::kWheels;
     }
-    const planner::LocalPlanner planner(config);
+    const planner::LocalPlanner planner(config, VehicleModel{}, ++seed);
     std::optional<planner::VertexCloudMap> loop_map;
     if (state.range(2) != 0) {
       planner::VertexCloudMap::Config map_config = scene.map->config();

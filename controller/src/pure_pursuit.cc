@@ -35,7 +35,6 @@ void PurePursuit::Config::Validate() const {
                                   "] m/s, got " + Shown(value));
     }
   };
-  positive(wheelbase_m, "wheelbase_m");
   speed(target_speed_mps, "target_speed_mps");
   speed(reverse_speed_mps, "reverse_speed_mps");
   speed(creep_speed_mps, "creep_speed_mps");
@@ -45,9 +44,6 @@ void PurePursuit::Config::Validate() const {
   positive(stop_tolerance_m, "stop_tolerance_m");
   speed(standstill_mps, "standstill_mps");
   positive(presteer_tolerance_rad, "presteer_tolerance_rad");
-  if (!(max_steering_rad > 0.0 && max_steering_rad < kPi / 2)) {
-    throw std::invalid_argument("PurePursuit::Config: max_steering_rad must be in (0, pi/2)");
-  }
   if (!(lookahead_gain_s >= 0.0) || !std::isfinite(lookahead_gain_s)) {
     throw std::invalid_argument("PurePursuit::Config: lookahead_gain_s must be >= 0");
   }
@@ -56,8 +52,19 @@ void PurePursuit::Config::Validate() const {
   }
 }
 
-PurePursuit::PurePursuit(const Config& config, planner::Path path) : config_(config), path_(std::move(path)) {
+void SteeringGeometry::Validate() const {
+  if (!(wheelbase_m > 0.0) || !std::isfinite(wheelbase_m)) {
+    throw std::invalid_argument("SteeringGeometry: wheelbase_m must be > 0, got " + Shown(wheelbase_m));
+  }
+  if (!(max_steering_rad > 0.0 && max_steering_rad < kPi / 2)) {
+    throw std::invalid_argument("SteeringGeometry: max_steering_rad must be in (0, pi/2)");
+  }
+}
+
+PurePursuit::PurePursuit(const Config& config, planner::Path path, const SteeringGeometry& steering)
+    : config_(config), steering_(steering), path_(std::move(path)) {
   config_.Validate();
+  steering_.Validate();
   // Drop degenerate segments; a path without a segment of two poses is already done.
   std::vector<planner::PathSegment> kept;
   for (const planner::PathSegment& s : path_.segments()) {
@@ -159,7 +166,7 @@ Command PurePursuit::Update(const planner::Pose2& pose, double speed_mps, std::o
   // formula whether the point lies ahead (forward) or behind (reverse).
   const double curvature = d2 > 1e-12 ? 2.0 * y_B / d2 : 0.0;
   command.steering_rad =
-      std::clamp(std::atan(config_.wheelbase_m * curvature), -config_.max_steering_rad, config_.max_steering_rad);
+      std::clamp(std::atan(steering_.wheelbase_m * curvature), -steering_.max_steering_rad, steering_.max_steering_rad);
   last_steering_rad_ = command.steering_rad;
 
   double speed = forward ? config_.target_speed_mps : config_.reverse_speed_mps;

@@ -12,7 +12,7 @@ std::vector<planner::Pose2> Rollout(const PurePursuit::Config& follower_config, 
   if (!positive(dt_s) || !positive(spacing_m) || !positive(max_time_s)) {
     throw std::invalid_argument("Rollout: dt_s, spacing_m and max_time_s must be > 0 and finite");
   }
-  PurePursuit follower(follower_config, path);
+  PurePursuit follower(follower_config, path, {model.config().wheelbase_m, model.config().max_steering_rad});
   std::vector<planner::Pose2> poses{start.pose};
   BicycleModel::State state = start;
   double since_last = 0.0;

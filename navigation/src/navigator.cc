@@ -65,65 +65,67 @@ Pose2 ToPose2(const Eigen::Isometry3d& T) {
   return Pose2{T.translation().x(), T.translation().y(), planner::NormalizeYaw(std::atan2(x.y(), x.x()))};
 }
 
-void Navigator::Config::Validate() const {
+void Navigator::Timing::Validate() const {
   const auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
-  if (!(map_rate_hz > 0.0) || !(map_rate_hz <= 100.0)) fail("navigator.map_rate_hz must be in (0, 100]");
-  if (!(control_rate_hz > 0.0) || !(control_rate_hz <= 1000.0)) fail("navigator.control_rate_hz must be in (0, 1000]");
-  if (goal_candidates < 1) fail("navigator.goal_candidates must be >= 1");
-  if (!std::isfinite(known_support_margin_m) || known_support_margin_m > 2.0) {
-    fail("navigator.known_support_margin_m must be at most 2 (negative disables)");
-  }
-  if (!std::isfinite(keep_path_within_m)) fail("navigator.keep_path_within_m must be finite");
-  if (!(cusp_cost_m >= 0.0) || !std::isfinite(cusp_cost_m)) fail("navigator.cusp_cost_m must be >= 0");
-  if (!(blocked_stop_short_m >= 0.0) || !std::isfinite(blocked_stop_short_m)) fail("navigator.blocked_stop_short_m must be >= 0");
-  if (!(min_prefix_m >= 0.0) || !std::isfinite(min_prefix_m)) fail("navigator.min_prefix_m must be >= 0");
-  if (!(progress_back_m >= 0.0) || !(progress_ahead_m > 0.0) || !std::isfinite(progress_back_m) ||
-      !std::isfinite(progress_ahead_m)) {
-    fail("navigator.progress_back_m must be >= 0 and progress_ahead_m > 0");
-  }
-  if (!std::isfinite(rollout_margin_m) || rollout_margin_m > 1.0) {
-    fail("navigator.rollout_margin_m must be at most 1 (negative disables)");
-  }
+  if (!(map_rate_hz > 0.0) || !(map_rate_hz <= 100.0)) fail("navigator.timing.map_rate_hz must be in (0, 100]");
+  if (!(control_rate_hz > 0.0) || !(control_rate_hz <= 1000.0)) fail("navigator.timing.control_rate_hz must be in (0, 1000]");
   if (!(latency_s >= 0.0) || !(latency_s <= 1.0 / map_rate_hz)) {
-    fail("navigator.latency_s must be in [0, the map period]");
+    fail("navigator.timing.latency_s must be in [0, the map period]");
   }
+}
+
+void Navigator::PathChoice::Validate() const {
+  const auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
+  const auto non_negative = [&](double v, const char* name) {
+    if (!(v >= 0.0) || !std::isfinite(v)) fail(std::string("navigator.path_choice.") + name + " must be >= 0");
+  };
+  if (goal_candidates < 1) fail("navigator.path_choice.goal_candidates must be >= 1");
+  if (!std::isfinite(known_support_margin_m) || known_support_margin_m > 2.0) {
+    fail("navigator.path_choice.known_support_margin_m must be at most 2 (negative disables)");
+  }
+  if (!std::isfinite(keep_path_within_m)) fail("navigator.path_choice.keep_path_within_m must be finite");
+  non_negative(cusp_cost_m, "cusp_cost_m");
+  non_negative(blocked_stop_short_m, "blocked_stop_short_m");
+  non_negative(min_prefix_m, "min_prefix_m");
+  if (!std::isfinite(rollout_margin_m) || rollout_margin_m > 1.0) {
+    fail("navigator.path_choice.rollout_margin_m must be at most 1 (negative disables)");
+  }
+}
+
+void Navigator::Progress::Validate() const {
+  if (!(back_m >= 0.0) || !(ahead_m > 0.0) || !std::isfinite(back_m) || !std::isfinite(ahead_m)) {
+    throw std::invalid_argument("navigator.progress.back_m must be >= 0 and ahead_m > 0");
+  }
+}
+
+void Navigator::Config::Validate() const {
+  timing.Validate();
   vehicle.Validate();
   buffer.Validate();
   preparation.Validate();
   ovpc.Validate();
   planner.Validate();
+  Box().Validate();
   local_goal.Validate();
   replan.Validate();
+  path_choice.Validate();
+  progress.Validate();
   follower.Validate();
 }
 
-Navigator::Config Navigator::Config::Derived() const {
-  Config c = *this;
-  planner::VehicleBox& box = c.planner.vehicle;
-  box.length_m = vehicle.length_m;
-  box.width_m = vehicle.width_m;
-  box.height_m = vehicle.height_m;
-  box.centre_ahead_m = 0.5 * vehicle.length_m - vehicle.rear_overhang_m;
-  box.wheelbase_m = vehicle.wheelbase_m;
-  box.track_m = vehicle.track_m;
-  c.planner.turning_radius_m = vehicle.turning_radius_m;
-  c.follower.wheelbase_m = vehicle.wheelbase_m;
-  c.follower.max_steering_rad = DegToRad(vehicle.max_steering_deg);
-  return c;
-}
-
-Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins)
-    : config_(config.Derived()), route_O_(std::move(route_O)), buffer_(config_.buffer) {
+Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins,
+                     std::uint32_t planner_seed)
+    : config_(config), box_(config.Box()), route_O_(std::move(route_O)), buffer_(config_.buffer) {
   config_.Validate();
   if (route_O_.empty()) throw std::invalid_argument("navigator: the route needs at least one waypoint");
   for (const auto& p : route_O_) {
     if (!p.allFinite()) throw std::invalid_argument("navigator: a route waypoint is not finite");
   }
   backend_ = plugins.map ? std::move(plugins.map) : std::make_unique<OvpcMapBackend>(config_.ovpc);
-  planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner);
+  planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner, config_.vehicle, planner_seed);
   builtin_follower_ = !plugins.follower;
-  follower_ = plugins.follower ? std::move(plugins.follower) : std::make_unique<PurePursuitFollower>(config_.follower);
-  next_map_s_ = 1.0 / config_.map_rate_hz;
+  follower_ = plugins.follower ? std::move(plugins.follower) : std::make_unique<PurePursuitFollower>(config_.follower, controller::SteeringGeometry::Of(config_.vehicle));
+  next_map_s_ = 1.0 / config_.timing.map_rate_hz;
   next_control_s_ = 0.0;
 }
 
@@ -131,7 +133,7 @@ Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O,
 
 controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T_O_B, double speed_mps) {
   if (time_s + 1e-9 >= next_control_s_) {
-    next_control_s_ = NextTick(time_s, next_control_s_, 1.0 / config_.control_rate_hz);
+    next_control_s_ = NextTick(time_s, next_control_s_, 1.0 / config_.timing.control_rate_hz);
     const auto t = Clock::now();
     command_ = follower_->has_path() ? follower_->Update(ToPose2(T_O_B), speed_mps) : controller::Command{0.0, 0.0, true};
     speed_mps_ = speed_mps;
@@ -190,7 +192,7 @@ bool Navigator::CycleRunning() const { return job_ && job_->on_worker && worker_
 
 bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   const Eigen::Vector2d here = T_O_B.translation().head<2>();
-  progress_m_ = planner::RouteProgress(route_O_, here, progress_m_, config_.progress_back_m, config_.progress_ahead_m);
+  progress_m_ = planner::RouteProgress(route_O_, here, progress_m_, config_.progress.back_m, config_.progress.ahead_m);
   // The vehicle is at most its straight-line distance short of the goal it drives to: a vehicle
   // cutting a sharp corner (as a local goal across it invites) is far from the route, and the
   // nearest route point inside the window stays on the leg it left, which held the goal back at
@@ -205,13 +207,13 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
     took_effect = true;
   }
   if (!(time_s + 1e-9 >= next_map_s_)) return took_effect;
-  next_map_s_ = NextTick(time_s, next_map_s_, 1.0 / config_.map_rate_hz);
+  next_map_s_ = NextTick(time_s, next_map_s_, 1.0 / config_.timing.map_rate_hz);
   if (job_) {  // a caller that jumped ahead in time: the last cycle first
     Finish();
     took_effect = true;
   }
   Launch(time_s, T_O_B);
-  if (config_.latency_s <= 0.0) {
+  if (config_.timing.latency_s <= 0.0) {
     Finish();
     took_effect = true;
   }
@@ -242,16 +244,16 @@ void Navigator::Launch(double time_s, const Eigen::Isometry3d& T_O_B) {
   job_ = std::make_unique<Job>();
   Job& job = *job_;
   job.time_s = time_s;
-  job.effect_s = time_s + config_.latency_s;
+  job.effect_s = time_s + config_.timing.latency_s;
   // The cycle's results are driven from time_s + latency_s: it plans from where the vehicle will be
   // then, predicted from the pose now, the measured speed and the steering it is driving with.
-  job.T_O_B = PredictPose(T_O_B, speed_mps_, command_.steering_rad, config_.vehicle.wheelbase_m, config_.latency_s);
+  job.T_O_B = PredictPose(T_O_B, speed_mps_, command_.steering_rad, config_.vehicle.wheelbase_m, config_.timing.latency_s);
   job.following = follower_->has_path() && !follower_->done();
   job.speed_mps = speed_mps_;
   job.steering_rad = command_.steering_rad;
   job.progress_m = progress_m_;
   job.state = state_;
-  if (worker_thread_ && config_.latency_s > 0.0) {
+  if (worker_thread_ && config_.timing.latency_s > 0.0) {
     if (!worker_) worker_ = std::make_unique<TaskThread>();  // kept for the navigator's life: its
     // thread-local scratch memory of the buffer and the map stays allocated
     job.on_worker = true;
@@ -319,9 +321,9 @@ bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::P
   const double max_time_s = 2.0 * path_L.Length() / config_.follower.creep_speed_mps + 10.0;
   const std::vector<Pose2> poses =
       controller::Rollout(config_.follower, controller::BicycleModel(model), path_L, start,
-                          1.0 / config_.control_rate_hz, config_.planner.check_resolution_m, max_time_s);
-  planner::VehicleBox box = config_.planner.vehicle;
-  box.margin_m = config_.rollout_margin_m;
+                          1.0 / config_.timing.control_rate_hz, config_.planner.check_resolution_m, max_time_s);
+  planner::VehicleBox box = box_;
+  box.margin_m = config_.path_choice.rollout_margin_m;
   for (const Pose2& pose : poses) {
     if (planner::CheckPose(*c.map, box, pose) == planner::PoseCheck::kCollision) return true;
   }
@@ -334,7 +336,7 @@ PointCloudBuffer::LocalCloud Navigator::PrepareCloud(const Job& job) {
   PointCloudBuffer::LocalCloud cloud = buffer_.Build();
   const MapPreparation::Config& prep = config_.preparation;
   DropIsolatedPoints(prep.isolated_point_radius_m, prep.isolated_point_reach_m, &cloud.points_L);
-  const planner::VehicleBox& box = config_.planner.vehicle;
+  const planner::VehicleBox& box = box_;
   if (prep.footprint_prior_margin_m > 0.0 && !cloud.points_L.empty()) {
     FootprintBox footprint;
     footprint.min_x_m = -config_.vehicle.rear_overhang_m;
@@ -366,9 +368,9 @@ void Navigator::MapCycle(Job* job) {
   c.frame.L_in_O = cloud.T_O_L.translation();
   MapContext context;
   context.T_L_B = c.T_L_B;
-  if (config_.known_support_margin_m >= 0.0) {
-    const planner::VehicleBox& box = config_.planner.vehicle;
-    const double grow = config_.known_support_margin_m;
+  if (config_.path_choice.known_support_margin_m >= 0.0) {
+    const planner::VehicleBox& box = box_;
+    const double grow = config_.path_choice.known_support_margin_m;
     context.known_support.pose = c.vehicle_L;
     context.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
     context.known_support.max_x_m = box.centre_ahead_m + 0.5 * box.length_m + grow;
@@ -412,7 +414,7 @@ void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
     const planner::PathPose at = state.path_O.Poses()[blocked_index];
     in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - here_O).norm();
     if (config_.replan.unseen_block_near_m > 0.0) {
-      const planner::PoseCheck why = planner::CheckPose(*c.map, config_.planner.vehicle, c.frame.ToL(at.pose));
+      const planner::PoseCheck why = planner::CheckPose(*c.map, box_, c.frame.ToL(at.pose));
       in.blocked_by_unseen_ground =
           why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
     }
@@ -449,17 +451,17 @@ bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest
 
 bool Navigator::NewPathIsBetter(const PlanState& state, const planner::Path& new_path_L, const planner::LocalGoal& goal,
                                 std::size_t closest) const {
-  if (config_.keep_path_within_m < 0.0 || !state.last_goal_O || state.path_O.empty()) return true;
+  if (config_.path_choice.keep_path_within_m < 0.0 || !state.last_goal_O || state.path_O.empty()) return true;
   const planner::Path rest = state.path_O.Slice(closest, state.path_O.Poses().size() - 1);
   if (rest.empty()) return true;
   // The route left after the goal is the route's length less the goal's progress; the length is
   // the same on both sides.
   const auto cost = [&](const planner::Path& p, double goal_progress_m, bool turns_round) {
-    return p.Length() + config_.cusp_cost_m * (p.NumCusps() + (turns_round ? 1 : 0)) - goal_progress_m;
+    return p.Length() + config_.path_choice.cusp_cost_m * (p.NumCusps() + (turns_round ? 1 : 0)) - goal_progress_m;
   };
   const bool turns_round = new_path_L.segments().front().direction != rest.segments().front().direction;
   return cost(new_path_L, goal.route_progress_m, turns_round) <
-         cost(rest, state.last_goal_O->route_progress_m, false) - config_.keep_path_within_m;
+         cost(rest, state.last_goal_O->route_progress_m, false) - config_.path_choice.keep_path_within_m;
 }
 
 bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
@@ -468,8 +470,8 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
   std::optional<planner::LocalGoal> previous_L = state.last_goal_O;
   if (previous_L) previous_L->pose = c.frame.ToL(previous_L->pose);
   const std::vector<planner::LocalGoal> goals =
-      planner::SelectLocalGoals(*c.map, config_.planner.vehicle, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal,
-                                previous_L, static_cast<std::size_t>(config_.goal_candidates), job->progress_m);
+      planner::SelectLocalGoals(*c.map, box_, route_O_, c.T_L_O, c.vehicle_L, config_.local_goal,
+                                previous_L, static_cast<std::size_t>(config_.path_choice.goal_candidates), job->progress_m);
   state.last_plan_s = c.time_s;
   PlanAttempt record = AttemptRecord(*job, c, reason, blocked, blocked_index);
   // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
@@ -499,7 +501,7 @@ PlanAttempt Navigator::AttemptRecord(const Job& job, const Cycle& c, planner::Re
   if (blocked) {
     const Pose2 at_L = c.frame.ToL(job.state.path_O.Poses()[blocked_index].pose);
     record.blocked_at_m = std::hypot(at_L.x_m - c.vehicle_L.x_m, at_L.y_m - c.vehicle_L.y_m);
-    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, config_.planner.vehicle, at_L));
+    record.blocked_by = planner::PoseCheckName(planner::CheckPose(*c.map, box_, at_L));
   }
   return record;
 }
@@ -513,7 +515,7 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
   ++job->plan_calls;
   // At the route's end only the position matters: heading straight there is a goal too.
   std::vector<double> other_yaws;
-  if (goal.is_route_end && config_.route_end_any_heading) {
+  if (goal.is_route_end && config_.path_choice.route_end_any_heading) {
     const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
     if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
   }
@@ -538,7 +540,7 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
     ++job->plan_outcomes["kept current"];
     return GoalTry::kTaken;
   }
-  if (plan.found() && !plan.path.empty() && config_.rollout_margin_m >= 0.0 && builtin_follower_ &&
+  if (plan.found() && !plan.path.empty() && config_.path_choice.rollout_margin_m >= 0.0 && builtin_follower_ &&
       RolloutCollides(*job, c, plan.path)) {
     // The planner's poses are clear, but the follower would not keep to them.
     job->plans.back().outcome = cycle->outcome = "rollout collision";
@@ -567,12 +569,12 @@ void Navigator::KeepValidPrefix(Job* job, std::size_t closest, std::size_t block
   const auto& poses = state->path_O.Poses();
   std::size_t last = blocked_index;
   double back = 0.0;
-  while (last > closest && back < config_.blocked_stop_short_m) {
+  while (last > closest && back < config_.path_choice.blocked_stop_short_m) {
     back += std::hypot(poses[last].pose.x_m - poses[last - 1].pose.x_m, poses[last].pose.y_m - poses[last - 1].pose.y_m);
     --last;
   }
-  planner::Path prefix = back >= config_.blocked_stop_short_m ? state->path_O.Slice(closest, last) : planner::Path{};
-  if (prefix.empty() || prefix.Length() < config_.min_prefix_m) {
+  planner::Path prefix = back >= config_.path_choice.blocked_stop_short_m ? state->path_O.Slice(closest, last) : planner::Path{};
+  if (prefix.empty() || prefix.Length() < config_.path_choice.min_prefix_m) {
     job->follow = Job::Follow::kClear;
     state->path_O = planner::Path{};
     return;

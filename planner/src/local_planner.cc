@@ -258,22 +258,23 @@ void LocalPlanner::Config::Validate() const {
                                   std::to_string(value));
     }
   };
-  positive(turning_radius_m, "turning_radius_m");
   positive(check_resolution_m, "check_resolution_m");
   positive(output_resolution_m, "output_resolution_m");
   if (!(check_resolution_m >= 0.005) || !(output_resolution_m >= 0.005)) {
     throw std::invalid_argument("LocalPlanner::Config: check_resolution_m and output_resolution_m must be >= 0.005");
   }
-  if (!(turning_radius_m <= 100.0)) throw std::invalid_argument("LocalPlanner::Config: turning_radius_m must be <= 100");
   if (!(range_m >= 0.0) || !std::isfinite(range_m)) {
     throw std::invalid_argument("LocalPlanner::Config: range_m must be >= 0 (0: OMPL's default)");
   }
   if (max_iterations == 0) throw std::invalid_argument("LocalPlanner::Config: max_iterations must be > 0");
 }
 
-LocalPlanner::LocalPlanner(const Config& config) : config_(config) {
+LocalPlanner::LocalPlanner(const Config& config, const VehicleModel& vehicle, std::uint32_t seed)
+    : config_(config), box_(VehicleBox::Of(vehicle, config.vehicle)), turning_radius_m_(vehicle.turning_radius_m), seed_(seed) {
   config_.Validate();
-  SeedOmplOnce(config_.seed);
+  vehicle.Validate();
+  box_.Validate();
+  SeedOmplOnce(seed_);
 }
 
 PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, const Pose2& goal_in,
@@ -281,17 +282,17 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
   PlanResult result;
   const Pose2 start{start_in.x_m, start_in.y_m, NormalizeYaw(start_in.yaw_rad)};
   const Pose2 goal{goal_in.x_m, goal_in.y_m, NormalizeYaw(goal_in.yaw_rad)};
-  result.start_check = CheckPose(map, config_.vehicle, start);
+  result.start_check = CheckPose(map, box_, start);
   if (result.start_check != PoseCheck::kValid) {
     result.status = PlanStatus::kStartInvalid;
     return result;
   }
   std::vector<Pose2> goals;
-  result.goal_check = CheckPose(map, config_.vehicle, goal);
+  result.goal_check = CheckPose(map, box_, goal);
   if (result.goal_check == PoseCheck::kValid) goals.push_back(goal);
   for (double yaw : other_goal_yaws) {
     const Pose2 other{goal.x_m, goal.y_m, NormalizeYaw(yaw)};
-    if (std::isfinite(other.yaw_rad) && CheckPose(map, config_.vehicle, other) == PoseCheck::kValid) goals.push_back(other);
+    if (std::isfinite(other.yaw_rad) && CheckPose(map, box_, other) == PoseCheck::kValid) goals.push_back(other);
   }
   if (goals.empty()) {
     result.status = PlanStatus::kGoalInvalid;
@@ -300,19 +301,19 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
 
   // Reeds-Shepp space bounded by the local map's extent.
   const MapBounds extent = map.Bounds();
-  auto space = std::make_shared<CachingReedsSheppSpace>(config_.turning_radius_m);
+  auto space = std::make_shared<CachingReedsSheppSpace>(turning_radius_m_);
   ob::RealVectorBounds bounds(2);
   bounds.setLow(0, extent.min_x_m);
   bounds.setHigh(0, extent.max_x_m);
   bounds.setLow(1, extent.min_y_m);
   bounds.setHigh(1, extent.max_y_m);
   space->setBounds(bounds);
-  const std::uint32_t seed = config_.seed;
+  const std::uint32_t seed = seed_;
   space->setStateSamplerAllocator(
       [seed](const ob::StateSpace* s) { return std::make_shared<SeededSe2Sampler>(s, seed); });
 
   auto si = std::make_shared<ob::SpaceInformation>(space);
-  si->setStateValidityChecker(std::make_shared<MapValidityChecker>(si, map, config_.vehicle, &result.state_checks));
+  si->setStateValidityChecker(std::make_shared<MapValidityChecker>(si, map, box_, &result.state_checks));
   si->setMotionValidator(std::make_shared<ob::ReedsSheppMotionValidator>(si));
   si->setStateValidityCheckingResolution(
       std::min(1.0, config_.check_resolution_m / space->getMaximumExtent()));
@@ -336,7 +337,7 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
     pdef->setGoal(goal_states);
   }
 
-  auto planner = std::make_shared<SeededRrtConnect>(si, seed, config_.turning_radius_m);
+  auto planner = std::make_shared<SeededRrtConnect>(si, seed, turning_radius_m_);
   if (config_.range_m > 0.0) planner->setRange(config_.range_m);
   planner->setProblemDefinition(pdef);
   planner->setup();
@@ -366,7 +367,7 @@ PlanResult LocalPlanner::Plan(const PlanningMap& map, const Pose2& start_in, con
     if (simplified.check()) path = simplified;  // every state and motion valid, else keep the raw path
   }
   for (std::size_t i = 0; i < path.getStateCount(); ++i) result.waypoints.push_back(ToPose(path.getState(i)));
-  result.path = Densify(*space, path, config_.turning_radius_m, config_.output_resolution_m, map);
+  result.path = Densify(*space, path, turning_radius_m_, config_.output_resolution_m, map);
   result.status = PlanStatus::kFound;
   return result;
 }
@@ -375,7 +376,7 @@ std::optional<std::size_t> LocalPlanner::FirstInvalidPose(const PlanningMap& map
                                                           std::size_t from_index) const {
   const std::vector<PathPose>& poses = path.Poses();
   for (std::size_t i = from_index; i < poses.size(); ++i) {
-    if (CheckPose(map, config_.vehicle, poses[i].pose) != PoseCheck::kValid) return i;
+    if (CheckPose(map, box_, poses[i].pose) != PoseCheck::kValid) return i;
   }
   return std::nullopt;
 }

@@ -23,15 +23,10 @@ void RequireNonNegative(double value, const char* field) {
 
 }  // namespace
 
-void VehicleBox::Validate() const {
-  RequirePositive(length_m, "length_m");
-  RequirePositive(width_m, "width_m");
-  RequirePositive(height_m, "height_m");
+void BoxRules::Validate() const {
   RequireNonNegative(margin_m, "margin_m");
   RequireNonNegative(ground_clearance_m, "ground_clearance_m");
   RequireNonNegative(footprint_depth_m, "footprint_depth_m");
-  RequirePositive(wheelbase_m, "wheelbase_m");
-  RequirePositive(track_m, "track_m");
   RequirePositive(wheel_support_m, "wheel_support_m");
   if (!(edge_tolerance_m >= 0.0)) {
     throw std::invalid_argument("VehicleBox: edge_tolerance_m must be >= 0 (infinite: off), got " + std::to_string(edge_tolerance_m));
@@ -42,6 +37,27 @@ void VehicleBox::Validate() const {
   if (!(max_roll_deg > 0.0 && max_roll_deg <= 90.0)) {
     throw std::invalid_argument("VehicleBox: max_roll_deg must be in (0, 90], got " + std::to_string(max_roll_deg));
   }
+}
+
+VehicleBox VehicleBox::Of(const VehicleModel& vehicle, const BoxRules& rules) {
+  VehicleBox box;
+  static_cast<BoxRules&>(box) = rules;
+  box.length_m = vehicle.length_m;
+  box.width_m = vehicle.width_m;
+  box.height_m = vehicle.height_m;
+  box.centre_ahead_m = 0.5 * vehicle.length_m - vehicle.rear_overhang_m;
+  box.wheelbase_m = vehicle.wheelbase_m;
+  box.track_m = vehicle.track_m;
+  return box;
+}
+
+void VehicleBox::Validate() const {
+  BoxRules::Validate();
+  RequirePositive(length_m, "length_m");
+  RequirePositive(width_m, "width_m");
+  RequirePositive(height_m, "height_m");
+  RequirePositive(wheelbase_m, "wheelbase_m");
+  RequirePositive(track_m, "track_m");
   if (!std::isfinite(centre_ahead_m)) throw std::invalid_argument("VehicleBox: centre_ahead_m must be finite");
   if (!(ground_clearance_m < height_m + margin_m)) {
     throw std::invalid_argument("VehicleBox: ground_clearance_m must be below the box top (height_m + margin_m)");

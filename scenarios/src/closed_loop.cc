@@ -77,8 +77,9 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   sim_config.odometry.seed = seed * 1000003ULL + 2;
   sim::Simulator sim(sim_config);
   // The route is given in the world frame, which is the odometry frame when the run starts.
-  const navigation::Navigator::Config nav_config = NavigatorConfigFor(scenario, seed);
-  navigation::Navigator nav(nav_config, scenario.route_m, PluginsFor(scenario, nav_config, options));
+  const navigation::Navigator::Config& nav_config = scenario.navigator;
+  navigation::Navigator nav(nav_config, scenario.route_m, PluginsFor(scenario, nav_config, options),
+                            static_cast<std::uint32_t>(seed));
   nav.RunCyclesOnAWorkerThread(options.threads >= 2);
   std::unique_ptr<navigation::TaskThread> ray_cast_helper;
   if (options.threads >= 2) {

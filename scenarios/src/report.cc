@@ -74,10 +74,9 @@ nlohmann::json DiagnosisJson(const Diagnosis& d) {
 }
 
 // The run's effective configuration, as --print-config prints it.
-nlohmann::json RunConfigJson(const Scenario& scenario, std::uint64_t seed) {
-  const navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
+nlohmann::json RunConfigJson(const Scenario& scenario) {
   internal::JsonWriter writer, record;
-  ovpc::VisitFields(navigator, writer);
+  ovpc::VisitFields(scenario.navigator, writer);
   ovpc::VisitFields(scenario.map_backends, writer);
   ovpc::VisitFields(scenario.record, record);
   return {{"navigator", writer.json()}, {"record", record.json()}};
@@ -139,7 +138,7 @@ void WriteResultJson(const Scenario& scenario, const RunResult& r, const std::st
       {"collision_steps", r.collision_steps},
       {"collisions", r.collisions},
       {"files", r.files},
-      {"config", RunConfigJson(scenario, r.seed)},
+      {"config", RunConfigJson(scenario)},
       {"diagnosis", DiagnosisJson(Diagnose(r))},
       {"timing", {{"physics_lidar", StageJson(r.physics_lidar)},
                   {"buffer", StageJson(r.navigator.buffer)},

@@ -240,18 +240,45 @@ void ReadRecord(MapReader r, Recording::Config* c, const YAML::Node& node) {
   }
 }
 
+// Keys of the navigator: section that moved into a section of their own, with their new place.
+constexpr std::pair<const char*, const char*> kMovedNavigatorKeys[] = {
+    {"map_rate_hz", "timing.map_rate_hz"},
+    {"control_rate_hz", "timing.control_rate_hz"},
+    {"latency_s", "timing.latency_s"},
+    {"goal_candidates", "path_choice.goal_candidates"},
+    {"route_end_any_heading", "path_choice.route_end_any_heading"},
+    {"known_support_margin_m", "path_choice.known_support_margin_m"},
+    {"keep_path_within_m", "path_choice.keep_path_within_m"},
+    {"cusp_cost_m", "path_choice.cusp_cost_m"},
+    {"rollout_margin_m", "path_choice.rollout_margin_m"},
+    {"blocked_stop_short_m", "path_choice.blocked_stop_short_m"},
+    {"min_prefix_m", "path_choice.min_prefix_m"},
+    {"progress_back_m", "progress.back_m"},
+    {"progress_ahead_m", "progress.ahead_m"},
+};
+
+void RefuseMovedKeys(MapReader& m, const YAML::Node& navigator) {
+  if (!navigator.IsMap()) return;
+  for (const auto& [old_key, new_key] : kMovedNavigatorKeys) {
+    if (const YAML::Node n = navigator[old_key]) {
+      m.Fail(n, "'navigator." + std::string(old_key) + "' is now 'navigator." + new_key + "'");
+    }
+  }
+}
+
 // The robot's configuration and the recording settings from a root map (a preset, or a scenario's
 // navigator: and record: sections over the preset).
 void ReadNavigatorAndRecord(MapReader& r, Scenario* s) {
   if (const YAML::Node n = r.Child("navigator")) {
     MapReader m(n, "navigator", r.file());
+    RefuseMovedKeys(m, n);
     ConfigReader reader(m);
     ovpc::VisitFields(s->navigator, reader);
     ovpc::VisitFields(s->map_backends, reader);
     m.Finish();
-    // What holds across sections, with the geometry derived from the vehicle model.
+    // What holds across sections (the planner's box is the vehicle model's size with its rules).
     try {
-      s->navigator.Derived().Validate();
+      s->navigator.Validate();
       s->map_backends.Validate();
     } catch (const std::invalid_argument& e) {
       const std::optional<YAML::Node> at = internal::NodeNamedBy(r.node(), e.what());
@@ -338,12 +365,6 @@ void Recording::Config::Validate() const {
   if (!(mesh_snapshot_period_s >= 0.0)) throw std::invalid_argument("record.mesh_snapshot_period_s must be >= 0");
 }
 
-navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed) {
-  navigation::Navigator::Config config = scenario.navigator;
-  config.planner.seed = static_cast<std::uint32_t>(seed);
-  return config.Derived();
-}
-
 void Scenario::Validate() const {
   auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
   // A day of simulated time: a run is bounded, and a typo (.inf, 1e9) does not run for ever.
@@ -375,7 +396,7 @@ void Scenario::Validate() const {
   }
   sim.Validate();
   record.Validate();
-  navigator.Derived().Validate();
+  navigator.Validate();
   map_backends.Validate();
 }
 
@@ -398,10 +419,9 @@ void ApplyPreset(const Preset& preset, Scenario* s) {
 
 }  // namespace
 
-std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed) {
-  const navigation::Navigator::Config navigator = NavigatorConfigFor(scenario, seed);
+std::string FormatRunConfig(const Scenario& scenario) {
   internal::YamlWriter nav(2), record(2);
-  ovpc::VisitFields(navigator, nav);
+  ovpc::VisitFields(scenario.navigator, nav);
   ovpc::VisitFields(scenario.map_backends, nav);
   ovpc::VisitFields(scenario.record, record);
   return "navigator:\n" + nav.str() + "record:\n" + record.str();

@@ -250,7 +250,7 @@ TEST_F(CliTest, RunPrintsRecordsAndTakesTheConfiguration) {
   const RunResult printed =
       Run("run " + Path("short.yaml") + " --print-config --set navigator.follower.target_speed_mps=1.25 --out " + Path("pc"));
   ASSERT_EQ(printed.exit_code, 0) << printed.err;
-  EXPECT_EQ(printed.out.rfind("navigator:\n  map_rate_hz: 5\n", 0), 0u) << printed.out;
+  EXPECT_EQ(printed.out.rfind("navigator:\n  timing:\n    map_rate_hz: 5\n", 0), 0u) << printed.out;
   EXPECT_NE(printed.out.find("    target_speed_mps: 1.25\n"), std::string::npos) << printed.out;
   EXPECT_FALSE(fs::exists(Path("pc"))) << "--print-config runs nothing";
 
@@ -318,7 +318,7 @@ TEST_F(CliTest, AFullDiskLosesADiagnosticFileWithAWarningAndTheResultWithAnError
   // The plan log and the first mesh snapshot cannot be written: warnings; the result is whole.
   fs::create_directories(Path("diag"));
   fs::create_symlink("/dev/full", Path("diag/plans.csv"));
-  // Maps take effect 0.1 s after they are started (navigator.latency_s): at 1.1 s, then 2.1 s.
+  // Maps take effect 0.1 s after they are started (navigator.timing.latency_s): at 1.1 s, then 2.1 s.
   fs::create_symlink("/dev/full", Path("diag/mesh_000_t1.1.ply"));
   const RunResult diag = Run("run " + Path("short.yaml") + " -q --set record.mesh_snapshot_period_s=1 --out " + Path("diag"));
   EXPECT_EQ(diag.exit_code, 0) << diag.err;
@@ -524,7 +524,7 @@ TEST_F(CliTest, ImpossibleLimitsAreRefusedUpFront) {
   const RunResult seeds = Run(suite + "--seeds 1000000000");
   EXPECT_EQ(seeds.exit_code, 2);
   EXPECT_NE(seeds.err.find("--seeds must be 1-100000"), std::string::npos) << seeds.err;
-  std::string sweep = "--sweep navigator.latency_s=";
+  std::string sweep = "--sweep navigator.timing.latency_s=";
   for (int i = 0; i < 1000; ++i) sweep += (i ? "," : "") + std::to_string(0.1 + i * 1e-4);
   const RunResult combos = Run(suite + sweep + " " + sweep.substr(0, 8) + "navigator.follower.lookahead_gain_s=" + sweep.substr(28));
   EXPECT_EQ(combos.exit_code, 2);
@@ -542,7 +542,7 @@ TEST_F(CliTest, ImpossibleLimitsAreRefusedUpFront) {
     EXPECT_NE(r.err.find("must name a file or folder"), std::string::npos) << r.err;
     EXPECT_EQ(Run("run " + Path("short.yaml") + " " + empty + (std::string(empty) == "--out ''" ? "" : " --out " + Path("run"))).exit_code, 2);
   }
-  const RunResult twice_key = Run(suite + "--sweep navigator.latency_s=0.1 --sweep navigator.latency_s=0.2");
+  const RunResult twice_key = Run(suite + "--sweep navigator.timing.latency_s=0.1 --sweep navigator.timing.latency_s=0.2");
   EXPECT_EQ(twice_key.exit_code, 2);
   EXPECT_NE(twice_key.err.find("given twice"), std::string::npos) << twice_key.err;
   const RunResult run_map = Run("run " + Path("short.yaml") + " --map '' --out " + Path("run"));

@@ -50,7 +50,7 @@ TEST(MapSelectionTest, EachComparisonBackendMapsPlansAndTimesItsStages) {
     EXPECT_FALSE(nav->plan_log().empty()) << "a plan was tried on the map";
     // The map it planned on: free ground ahead of the vehicle, the post at (9, 3) in the way.
     ASSERT_NE(nav->map(), nullptr);
-    const planner::VehicleBox& box = nav->config().planner.vehicle;
+    const planner::VehicleBox& box = nav->box();
     EXPECT_EQ(planner::CheckPose(*nav->map(), box, Pose2{3.0, 0.0, 0.0}), planner::PoseCheck::kValid);
     EXPECT_NE(planner::CheckPose(*nav->map(), box, Pose2{7.5, 3.0, 0.0}), planner::PoseCheck::kValid);
     EXPECT_EQ(planner::CheckPose(*nav->map(), box, Pose2{7.5, -3.0, 0.0}), planner::PoseCheck::kValid) << "no post there";

@@ -122,7 +122,7 @@ TEST(PurePursuitTest, SlowerInTightCurvesAndSteeringClamped) {
   const Path corner({Arc(Direction::kForward, {0.0, 1.0}, 1.0, -kPi / 2, kPi / 2)});
   PurePursuit on_corner(PurePursuit::Config{}, corner);
   const Command clamped = on_corner.Update(Pose2{0.0, 0.0, 0.0}, 1.0);
-  EXPECT_NEAR(clamped.steering_rad, PurePursuit::Config{}.max_steering_rad, 1e-12);
+  EXPECT_NEAR(clamped.steering_rad, SteeringGeometry{}.max_steering_rad, 1e-12);
 }
 
 TEST(PurePursuitTest, SteersBeforeSettingOff) {
@@ -166,9 +166,13 @@ TEST(PurePursuitTest, InvalidConfigThrowsNamingTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("lookahead_max_m"), std::string::npos);
   }
-  config = PurePursuit::Config{};
-  config.max_steering_rad = 2.0;
-  EXPECT_THROW(PurePursuit(config, Path{}), std::invalid_argument);
+  SteeringGeometry steering;
+  steering.max_steering_rad = 2.0;
+  EXPECT_THROW(PurePursuit(PurePursuit::Config{}, Path{}, steering), std::invalid_argument);
+  steering = SteeringGeometry::Of(VehicleModel{});
+  EXPECT_NO_THROW(PurePursuit(PurePursuit::Config{}, Path{}, steering));
+  steering.wheelbase_m = 0.0;
+  EXPECT_THROW(PurePursuit(PurePursuit::Config{}, Path{}, steering), std::invalid_argument);
 }
 
 }  // namespace

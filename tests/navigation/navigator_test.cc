@@ -192,8 +192,8 @@ class BackingUpPlanner final : public PathPlanner {
 TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
   for (const double keep : {-1.0, 1.0}) {
     Navigator::Config config = FlatConfig();
-    config.keep_path_within_m = keep;
-    config.cusp_cost_m = 3.0;
+    config.path_choice.keep_path_within_m = keep;
+    config.path_choice.cusp_cost_m = 3.0;
     Navigator::Plugins plugins;
     plugins.planner = std::make_unique<BackingUpPlanner>();
     Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
@@ -212,7 +212,7 @@ TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
     }
   }
   Navigator::Config bad = FlatConfig();
-  bad.cusp_cost_m = -1.0;
+  bad.path_choice.cusp_cost_m = -1.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
@@ -245,7 +245,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   };
   for (const double margin : {-1.0, 0.05}) {
     Navigator::Config config = FlatConfig();
-    config.rollout_margin_m = margin;
+    config.path_choice.rollout_margin_m = margin;
     Navigator::Plugins plugins;
     plugins.planner = std::make_unique<CornerPlanner>();
     Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
@@ -262,7 +262,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   }
   // Without the post the same path is taken: the rollout checks collisions, nothing else.
   Navigator::Config config = FlatConfig();
-  config.rollout_margin_m = 0.05;
+  config.path_choice.rollout_margin_m = 0.05;
   Navigator::Plugins plugins;
   plugins.planner = std::make_unique<CornerPlanner>();
   Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
@@ -270,7 +270,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
                                         25, 0.01, 1));
   EXPECT_TRUE(nav.has_path());
   Navigator::Config bad = FlatConfig();
-  bad.rollout_margin_m = 2.0;
+  bad.path_choice.rollout_margin_m = 2.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
@@ -279,7 +279,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
 TEST(NavigatorTest, WithALatencyThePathStartsWhereTheVehicleWillBe) {
   for (const double latency : {0.0, 0.1}) {
     Navigator::Config config = FlatConfig();
-    config.latency_s = latency;
+    config.timing.latency_s = latency;
     Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}});
     const Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
     nav.Control(0.0, T_O_B, 1.0);  // measured speed 1 m/s, no path yet: steering 0
@@ -319,16 +319,17 @@ TEST(NavigatorTest, GeometryIsDerivedFromTheVehicleModel) {
   config.vehicle.rear_overhang_m = 1.0;
   config.vehicle.wheelbase_m = 2.5;
   config.vehicle.max_steering_deg = 35.0;
-  const Navigator::Config d = config.Derived();
-  EXPECT_EQ(d.planner.vehicle.length_m, 4.0);
-  EXPECT_EQ(d.planner.vehicle.centre_ahead_m, 1.0);
-  EXPECT_EQ(d.planner.vehicle.wheelbase_m, 2.5);
-  EXPECT_EQ(d.follower.wheelbase_m, 2.5);
-  EXPECT_DOUBLE_EQ(d.follower.max_steering_rad, DegToRad(35.0));
-  // The defaults derive the library's own numbers, bit for bit.
-  const Navigator::Config defaults = Navigator::Config{}.Derived();
-  EXPECT_EQ(defaults.planner.vehicle.centre_ahead_m, planner::VehicleBox{}.centre_ahead_m);
-  EXPECT_EQ(defaults.planner.turning_radius_m, planner::LocalPlanner::Config{}.turning_radius_m);
+  const Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}});
+  EXPECT_EQ(nav.box().length_m, 4.0);
+  EXPECT_EQ(nav.box().centre_ahead_m, 1.0);
+  EXPECT_EQ(nav.box().wheelbase_m, 2.5);
+  EXPECT_EQ(nav.box().margin_m, config.planner.vehicle.margin_m) << "the rules are the config's";
+  const controller::SteeringGeometry steering = controller::SteeringGeometry::Of(config.vehicle);
+  EXPECT_EQ(steering.wheelbase_m, 2.5);
+  EXPECT_DOUBLE_EQ(steering.max_steering_rad, DegToRad(35.0));
+  // The defaults give the library's own numbers, bit for bit.
+  EXPECT_EQ(Navigator::Config{}.Box().centre_ahead_m, planner::VehicleBox{}.centre_ahead_m);
+  EXPECT_EQ(Navigator::Config{}.Box().length_m, planner::VehicleBox{}.length_m);
 }
 
 // A planner whose blocked-pose index lies past the path's end: taken as the last pose, no crash.
@@ -372,7 +373,7 @@ TEST(NavigatorTest, TheDefaultMapBackendMapsPlansAndTimesItsStages) {
   ASSERT_EQ(nav.cycles().size(), 1u);
   EXPECT_TRUE(nav.cycles()[0].map_ok);
   ASSERT_NE(nav.map(), nullptr);
-  const planner::VehicleBox& box = nav.config().planner.vehicle;
+  const planner::VehicleBox& box = nav.box();
   EXPECT_EQ(planner::CheckPose(*nav.map(), box, Pose2{3.0, 0.0, 0.0}), planner::PoseCheck::kValid);
   EXPECT_NE(planner::CheckPose(*nav.map(), box, Pose2{7.5, 3.0, 0.0}), planner::PoseCheck::kValid);
   const std::vector<std::string> stages = {"sanitize", "transform", "hull", "mesh", "traversability", "vertex_cloud",
@@ -384,7 +385,7 @@ TEST(NavigatorTest, TheDefaultMapBackendMapsPlansAndTimesItsStages) {
 
 TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   Navigator::Config config;
-  config.map_rate_hz = 0.0;
+  config.timing.map_rate_hz = 0.0;
   EXPECT_THROW(Navigator(config, {{0.0, 0.0}}), std::invalid_argument);
   EXPECT_THROW(Navigator(Navigator::Config{}, {}), std::invalid_argument);
   EXPECT_THROW(Navigator(Navigator::Config{}, {{0.0, std::nan("")}}), std::invalid_argument);
@@ -393,12 +394,12 @@ TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   EXPECT_THROW(Navigator(ovpc, {{0.0, 0.0}}), std::invalid_argument) << "the default backend's section";
   for (const double latency : {-0.01, 0.21, std::nan("")}) {  // at most 5 Hz's 0.2 s
     Navigator::Config late;
-    late.latency_s = latency;
+    late.timing.latency_s = latency;
     EXPECT_THROW(Navigator(late, {{0.0, 0.0}}), std::invalid_argument) << latency;
   }
   for (const double latency : {0.1, 0.2}) {
     Navigator::Config in_time;
-    in_time.latency_s = latency;
+    in_time.timing.latency_s = latency;
     EXPECT_NO_THROW(Navigator(in_time, {{0.0, 0.0}})) << latency;
   }
 }

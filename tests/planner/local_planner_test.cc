@@ -24,11 +24,7 @@ const Pose2 kGoal{7.0, 0.0, 0.0};
 // The scene tests run with several seeds: a property of the planner, not of one lucky seed.
 constexpr std::uint32_t kSeeds[] = {1, 2, 3, 4, 5, 6, 7, 8};
 
-LocalPlanner SeededPlanner(std::uint32_t seed) {
-  LocalPlanner::Config config;
-  config.seed = seed;
-  return LocalPlanner(config);
-}
+LocalPlanner SeededPlanner(std::uint32_t seed) { return LocalPlanner(LocalPlanner::Config{}, VehicleModel{}, seed); }
 
 PlanResult PlanScene(const LocalPlanner& planner, const PlanningScene& scene) {
   return planner.Plan(*scene.map, scene.spec.start, scene.spec.goal);
@@ -122,7 +118,7 @@ TEST(LocalPlannerTest, GoesAroundAClusterOfPosts) {
     const LocalPlanner planner = SeededPlanner(seed);
     const PlanResult result = PlanScene(planner, Posts());
     ExpectWellFormed(result, *Posts().map, planner, Posts().spec.start, Posts().spec.goal);
-    const VehicleBox& vehicle = planner.config().vehicle;
+    const VehicleBox& vehicle = planner.box();
     double max_offset = 0.0;
     for (const PathPose& p : result.path.Poses()) {
       max_offset = std::max(max_offset, std::abs(p.pose.y_m));
@@ -162,7 +158,7 @@ TEST(LocalPlannerTest, NeverDrivesUnderARoofAt1p6m) {
     // This scene leaves room to pass beside the slab, in view of the scanning vehicle.
     ExpectWellFormed(result, *scene.map, planner, scene.spec.start, scene.spec.goal);
     const testing::Rect roof = testing::LowRoof();
-    const VehicleBox& vehicle = planner.config().vehicle;
+    const VehicleBox& vehicle = planner.box();
     for (const PathPose& p : result.path.Poses()) {
       for (double x = roof.min_x; x <= roof.max_x + 1e-9; x += 0.25) {
         for (double y = roof.min_y; y <= roof.max_y + 1e-9; y += 0.25) {
@@ -213,15 +209,12 @@ TEST(LocalPlannerTest, GoalInCollisionIsReportedAsSuch) {
 }
 
 TEST(LocalPlannerTest, SameSeedTwiceGivesTheSamePath) {
-  LocalPlanner::Config config;
-  config.seed = 7;
-  const LocalPlanner first(config);
+  const LocalPlanner::Config config;
+  const LocalPlanner first(config, VehicleModel{}, 7);
   const PlanResult a = first.Plan(*Posts().map, Posts().spec.start, Posts().spec.goal);
   // Other plans in between consume OMPL's process-wide seed sequence; they must not matter.
-  config.seed = 8;
-  const PlanResult other = LocalPlanner(config).Plan(*Posts().map, Posts().spec.start, Posts().spec.goal);
-  config.seed = 7;
-  const PlanResult b = LocalPlanner(config).Plan(*Posts().map, Posts().spec.start, Posts().spec.goal);
+  const PlanResult other = LocalPlanner(config, VehicleModel{}, 8).Plan(*Posts().map, Posts().spec.start, Posts().spec.goal);
+  const PlanResult b = LocalPlanner(config, VehicleModel{}, 7).Plan(*Posts().map, Posts().spec.start, Posts().spec.goal);
   const PlanResult c = first.Plan(*Posts().map, Posts().spec.start, Posts().spec.goal);
   ASSERT_TRUE(a.found() && b.found() && c.found() && other.found());
   for (const PlanResult* r : {&b, &c}) {
@@ -283,8 +276,8 @@ TEST(LocalPlannerTest, AGoalWithOtherHeadingsArrivesAtAnyOfThem) {
   EXPECT_TRUE(either) << end.yaw_rad;
   // A goal position whose given heading is blocked but another is not is still a goal.
   const Pose2 blocked{-3.5, 0.5, 0.0};  // its box reaches the posts; turned round it does not
-  ASSERT_EQ(CheckPose(*Posts().map, LocalPlanner::Config{}.vehicle, blocked), PoseCheck::kCollision);
-  ASSERT_EQ(CheckPose(*Posts().map, LocalPlanner::Config{}.vehicle, Pose2{-3.5, 0.5, kPi}), PoseCheck::kValid);
+  ASSERT_EQ(CheckPose(*Posts().map, VehicleBox{}, blocked), PoseCheck::kCollision);
+  ASSERT_EQ(CheckPose(*Posts().map, VehicleBox{}, Pose2{-3.5, 0.5, kPi}), PoseCheck::kValid);
   const PlanResult only = planner.Plan(*Posts().map, Posts().spec.start, blocked);
   EXPECT_EQ(only.status, PlanStatus::kGoalInvalid);
   const PlanResult turned = planner.Plan(*Posts().map, Posts().spec.start, blocked, {kPi});
@@ -305,7 +298,7 @@ TEST(LocalPlannerTest, PathBlockedAfterAMapUpdateIsDetected) {
   // hide the ground from the viewpoint).
   EXPECT_GT(p.pose.x_m, -1.35 - 2.45 - 1.3);
   EXPECT_LT(p.pose.x_m, -1.35 - 2.45 + 0.1);
-  const PoseCheck check = CheckPose(*Posts().map, planner.config().vehicle, p.pose);
+  const PoseCheck check = CheckPose(*Posts().map, planner.box(), p.pose);
   EXPECT_TRUE(check == PoseCheck::kCollision || check == PoseCheck::kGroundUnderFootprint) << PoseCheckName(check);
   // Past the posts the path is valid again.
   const std::size_t last = result.path.Poses().size() - 1;
@@ -323,15 +316,18 @@ TEST(LocalPlannerTest, TinyBudgetGivesNoPathNotACrash) {
 
 TEST(LocalPlannerTest, InvalidConfigThrowsNamingTheField) {
   LocalPlanner::Config config;
-  config.turning_radius_m = -1.0;
+  VehicleModel vehicle;
+  vehicle.turning_radius_m = -1.0;
   try {
-    LocalPlanner planner(config);
+    LocalPlanner planner(config, vehicle);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("turning_radius_m"), std::string::npos);
   }
-  config = LocalPlanner::Config{};
-  config.vehicle.width_m = 0.0;
+  vehicle = VehicleModel{};
+  vehicle.width_m = 0.0;
+  EXPECT_THROW(LocalPlanner(config, vehicle), std::invalid_argument);
+  config.vehicle.margin_m = -1.0;
   EXPECT_THROW(LocalPlanner{config}, std::invalid_argument);
   config = LocalPlanner::Config{};
   config.max_iterations = 0;

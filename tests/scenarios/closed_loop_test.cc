@@ -33,7 +33,7 @@ TEST(ClosedLoopTest, SameScenarioAndSeedGiveABitIdenticalTrajectory) {
 // With a latency the map-and-plan cycle may run beside the simulation: the trajectory depends on
 // the latency, never on the thread it ran on.
 TEST(ClosedLoopTest, ALatencyGivesTheSameTrajectoryWithOneThreadOrTwo) {
-  const Scenario s = ParseScenario(kShort, "short.yaml", {"time_limit_s=6", "navigator.latency_s=0.1"});
+  const Scenario s = ParseScenario(kShort, "short.yaml", {"time_limit_s=6", "navigator.timing.latency_s=0.1"});
   RunOptions one, two;
   two.threads = 2;
   const RunResult a = RunClosedLoop(s, 3, one);
@@ -48,7 +48,7 @@ TEST(ClosedLoopTest, ALatencyGivesTheSameTrajectoryWithOneThreadOrTwo) {
   EXPECT_GT(a.distance_m, 0.5) << "the vehicle should have set off";
   // The latency is a fact of the run: without it the vehicle sets off 0.1 s earlier.
   const RunResult none =
-      RunClosedLoop(ParseScenario(kShort, "short.yaml", {"time_limit_s=6", "navigator.latency_s=0"}), 3, one);
+      RunClosedLoop(ParseScenario(kShort, "short.yaml", {"time_limit_s=6", "navigator.timing.latency_s=0"}), 3, one);
   ASSERT_FALSE(none.plan_log.empty());
   const auto first_moving = [](const RunResult& r) {
     for (const auto& row : r.trajectory) {

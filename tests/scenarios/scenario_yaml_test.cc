@@ -168,25 +168,25 @@ TEST(RunConfigTest, TheDefaultPresetListsEverySettingAndPrintsAsItReads) {
                                                            "navigator.buffer.max_scans=25"});
   // Every key the Configs declare is in the file, in the same order, with the value it reads as;
   // the testbed's record: settings are not the robot's, and follow with their own defaults.
-  EXPECT_EQ(FormatRunConfig(s, 1),
+  EXPECT_EQ(FormatRunConfig(s),
             WithoutComments(ReadText(file)) + "record:\n  record_rate_hz: 10\n  mesh_snapshot_period_s: 10\n");
 }
 
 TEST(RunConfigTest, PrintedConfigReadsBackAsAPresetToTheSameConfig) {
   const Scenario a = LoadScenario(std::string(OVPC_SOURCE_DIR) + "/scenarios/slope_35_detour.yaml");
-  const std::string printed = FormatRunConfig(a, 4);
+  const std::string printed = FormatRunConfig(a);
   EXPECT_NE(printed.find("placement: wheel_contacts"), std::string::npos) << "the scenario's own keys are in it";
   const Scenario b = ParseScenario("name: plain\ntime_limit_s: 5\nroute: [[0, 0], [5, 0]]\n", "plain.yaml", {},
                                    Preset{printed, "printed.yaml"});
-  EXPECT_EQ(FormatRunConfig(b, 4), printed);
+  EXPECT_EQ(FormatRunConfig(b), printed);
   EXPECT_EQ(b.navigator.planner.vehicle.placement, planner::VehicleBox::Placement::kWheelContacts);
   EXPECT_EQ(b.navigator.local_goal.mode, planner::LocalGoalSelection::Config::Mode::kReachable);
 }
 
 TEST(RunConfigTest, BadPresetsAndTheOldParamsSectionAreErrorsNamingFileAndLine) {
-  const auto error = [](const std::string& scenario, const Preset& preset) {
+  const auto error = [](const std::string& scenario, const Preset& preset, const std::vector<std::string>& set = {}) {
     try {
-      ParseScenario(scenario, "test.yaml", {}, preset);
+      ParseScenario(scenario, "test.yaml", set, preset);
     } catch (const ScenarioError& e) {
       return std::string(e.what());
     }
@@ -198,10 +198,18 @@ TEST(RunConfigTest, BadPresetsAndTheOldParamsSectionAreErrorsNamingFileAndLine) 
   EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  planner:\n    vehicle: {placement: floating}\n", "p.yaml"})
                 .rfind("p.yaml:3: 'navigator.planner.vehicle.placement' must be nearest_point or wheel_contacts", 0),
             0u);
-  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  map_rate_hz: 0\n", "p.yaml"})
-                .rfind("p.yaml:2: in 'navigator': navigator.map_rate_hz must be in (0, 100]", 0),
+  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  timing:\n    map_rate_hz: 0\n", "p.yaml"})
+                .rfind("p.yaml:3: in 'navigator.timing': navigator.timing.map_rate_hz must be in (0, 100]", 0),
             0u)
-      << error(kMinimal, Preset{"navigator:\n  map_rate_hz: 0\n", "p.yaml"});
+      << error(kMinimal, Preset{"navigator:\n  timing:\n    map_rate_hz: 0\n", "p.yaml"});
+  // A key that moved into a section is refused with its new place.
+  EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  buffer: {}\n  latency_s: 0.1\n", "p.yaml"})
+                .rfind("p.yaml:3: 'navigator.latency_s' is now 'navigator.timing.latency_s'", 0),
+            0u)
+      << error(kMinimal, Preset{"navigator:\n  buffer: {}\n  latency_s: 0.1\n", "p.yaml"});
+  EXPECT_NE(error(kMinimal, DefaultPreset(), {"navigator.progress_back_m=3"})
+                .find("'navigator.progress_back_m' is now 'navigator.progress.back_m'"),
+            std::string::npos);
   // A section's own rule is reported at the section, a rule across sections at 'navigator'.
   EXPECT_EQ(error(kMinimal, Preset{"navigator:\n  follower:\n    lookahead_min_m: -1\n", "p.yaml"})
                 .rfind("p.yaml:3: in 'navigator.follower': ", 0),

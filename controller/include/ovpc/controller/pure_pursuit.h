@@ -30,14 +30,24 @@ namespace ovpc::controller {
 ///
 /// Create one follower per path (a new plan gets a new follower); Update is called once per control
 /// step with the measured rear-axle pose and speed.
+/// The vehicle's steering geometry the follower turns curvature into steering with: taken from the
+/// VehicleModel, not a setting.
+struct SteeringGeometry {
+  double wheelbase_m = VehicleModel{}.wheelbase_m;
+  double max_steering_rad = DegToRad(VehicleModel{}.max_steering_deg);
+  static SteeringGeometry Of(const VehicleModel& vehicle) {
+    return {vehicle.wheelbase_m, DegToRad(vehicle.max_steering_deg)};
+  }
+  /// @throws std::invalid_argument naming the offending field.
+  void Validate() const;
+};
+
 class PurePursuit {
  public:
   /// The largest speed a Config may set (108 km/h).
   static constexpr double kMaxSpeedMps = 30.0;
 
   struct Config {
-    double wheelbase_m = VehicleModel{}.wheelbase_m;
-    double max_steering_rad = DegToRad(VehicleModel{}.max_steering_deg);
     double target_speed_mps = 1.0;             ///< paper
     double reverse_speed_mps = 0.5;            ///< backwards more carefully (assumption)
     double creep_speed_mps = 0.1;              ///< least speed while a stop is not reached
@@ -69,8 +79,8 @@ class PurePursuit {
     void Validate() const;
   };
 
-  /// @throws std::invalid_argument for an invalid config.
-  PurePursuit(const Config& config, planner::Path path);
+  /// @throws std::invalid_argument for an invalid config or geometry.
+  PurePursuit(const Config& config, planner::Path path, const SteeringGeometry& steering = {});
 
   /// The command for the vehicle's rear axle at `pose` moving at `speed_mps` (signed), with the
   /// measured steering angle if the vehicle reports one (used only to steer before setting off).
@@ -81,6 +91,7 @@ class PurePursuit {
   std::size_t segment_index() const { return segment_; }
   const planner::Path& path() const { return path_; }
   const Config& config() const { return config_; }
+  const SteeringGeometry& steering() const { return steering_; }
 
  private:
   // Arc length of the vehicle's projection onto the current segment, searched forward from the last
@@ -89,6 +100,7 @@ class PurePursuit {
   Eigen::Vector2d PointAt(double s) const;
 
   Config config_;
+  SteeringGeometry steering_;
   planner::Path path_;
   std::size_t segment_ = 0;
   std::vector<double> arc_m_;   // cumulative arc length of the current segment's poses

@@ -37,25 +37,33 @@ namespace ovpc::navigation {
 /// same commands, bit for bit.
 ///
 /// Call per odometry update, in this order: Control (at any rate; it runs the follower at
-/// Config::control_rate_hz and otherwise repeats the last command), AddScan for each new scan,
-/// Update (it tracks route progress and, at Config::map_rate_hz, runs one map-and-plan cycle).
+/// Timing::control_rate_hz and otherwise repeats the last command), AddScan for each new scan,
+/// Update (it tracks route progress and, at Timing::map_rate_hz, runs one map-and-plan cycle).
 class Navigator {
  public:
-  struct Config {
+  /// When the stack runs, on the caller's clock.
+  struct Timing {
     double map_rate_hz = 5.0;        ///< map-and-plan cycles per second (at most 100; the paper gives none)
     double control_rate_hz = 50.0;   ///< follower commands per second (at most 1000)
-    VehicleModel vehicle;
-    PointCloudBuffer::Config buffer;
-    MapPreparation::Config preparation;
-    /// The default map backend (a Plugins::map replaces it).
-    OvpcMapBackend::Config ovpc;
-    /// The default planner. Its vehicle box's geometry (length, width, height, centre, wheelbase,
-    /// track) and turning radius are derived from `vehicle`; the box's rules are set here.
-    planner::LocalPlanner::Config planner;
-    planner::LocalGoalSelection::Config local_goal;
-    planner::Replanning::Config replan;
-    /// The default follower; wheelbase and steering limit are derived from `vehicle`.
-    controller::PurePursuit::Config follower;
+    /// The map-and-plan cycle started from the data up to time t takes effect (its path is driven)
+    /// at t + latency_s, as on a robot that maps and plans while it drives; in between, the vehicle
+    /// follows the previous path. The trajectory depends on this value, never on whether the cycle
+    /// ran on another thread (RunCyclesOnAWorkerThread). 0: at once (the cycle costs no time). At
+    /// most the map period.
+    double latency_s = 0.0;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, map_rate_hz), "Hz", "map-and-plan cycles per second (the paper gives none)");
+      v.Field(OVPC_FIELD(c, control_rate_hz), "Hz", "follower commands per second");
+      v.Field(OVPC_FIELD(c, latency_s), "s", "a cycle takes effect this long after its data; 0: at once");
+    }
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
+
+  /// Which path the vehicle drives: the goals tried, the support it stands on, when a new path
+  /// replaces the current one, and what is left of a blocked one.
+  struct PathChoice {
     /// Local goal candidates tried per re-plan, best first, until one gives a path.
     int goal_candidates = 3;
     /// A plan to the route's end may also arrive heading straight from the vehicle to it.
@@ -63,10 +71,6 @@ class Navigator {
     /// The planner takes the ground under the vehicle's footprint, grown by this margin, as support
     /// for the wheels (the vehicle stands on it, though the sensor never sees it). Negative disables.
     double known_support_margin_m = 0.3;
-    /// A blocked path that no new plan replaces is driven up to this far before its first blocked
-    /// pose; a remaining prefix shorter than `min_prefix_m` is dropped and the vehicle stands.
-    double blocked_stop_short_m = 0.5;
-    double min_prefix_m = 0.3;
     /// A periodic re-plan (the current path still valid) replaces the current path only if the new
     /// one is shorter by more than this, counting for each path its length, `cusp_cost_m` per change
     /// of direction (one more when it starts the other way than the vehicle is driving) and the
@@ -81,20 +85,58 @@ class Navigator {
     /// tolerance is skipped and a corner is cut. Negative: off (the paper's rule). With a follower
     /// plug-in there is no rollout (its behaviour is not known).
     double rollout_margin_m = -1.0;
-    /// Route progress is tracked in a window this far back and ahead of the last progress, so that a
-    /// route passing near itself is not taken as done when the vehicle cuts across.
-    double progress_back_m = 5.0;
-    double progress_ahead_m = 10.0;
-    /// The map-and-plan cycle started from the data up to time t takes effect (its path is driven)
-    /// at t + latency_s, as on a robot that maps and plans while it drives; in between, the vehicle
-    /// follows the previous path. The trajectory depends on this value, never on whether the cycle
-    /// ran on another thread (RunCyclesOnAWorkerThread). 0: at once (the cycle costs no time). At
-    /// most the map period.
-    double latency_s = 0.0;
+    /// A blocked path that no new plan replaces is driven up to this far before its first blocked
+    /// pose; a remaining prefix shorter than `min_prefix_m` is dropped and the vehicle stands.
+    double blocked_stop_short_m = 0.5;
+    double min_prefix_m = 0.3;
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
-      v.Field(OVPC_FIELD(c, map_rate_hz), "Hz", "map-and-plan cycles per second (the paper gives none)");
-      v.Field(OVPC_FIELD(c, control_rate_hz), "Hz", "follower commands per second");
+      v.Field(OVPC_FIELD(c, goal_candidates), "goals", "local goals tried per re-plan until one gives a path");
+      v.Field(OVPC_FIELD(c, route_end_any_heading), "", "the route's end may be reached at any heading");
+      v.Field(OVPC_FIELD(c, known_support_margin_m), "m", "the vehicle stands on its unseen footprint grown by this");
+      v.Field(OVPC_FIELD(c, keep_path_within_m), "m", "a periodic re-plan must be this much shorter; < 0: paper");
+      v.Field(OVPC_FIELD(c, cusp_cost_m), "m", "a change of direction counts this many metres");
+      v.Field(OVPC_FIELD(c, rollout_margin_m), "m", "the follower's rollout keeps the box grown by this clear; < 0: off");
+      v.Field(OVPC_FIELD(c, blocked_stop_short_m), "m", "a blocked path is driven up to this far before the block");
+      v.Field(OVPC_FIELD(c, min_prefix_m), "m", "a shorter remaining prefix is dropped");
+    }
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
+
+  /// Route progress is tracked in a window this far back and ahead of the last progress, so that a
+  /// route passing near itself is not taken as done when the vehicle cuts across.
+  struct Progress {
+    double back_m = 5.0;
+    double ahead_m = 10.0;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, back_m), "m", "route progress is searched this far back");
+      v.Field(OVPC_FIELD(c, ahead_m), "m", "... and this far ahead");
+    }
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
+  };
+
+  struct Config {
+    Timing timing;
+    VehicleModel vehicle;
+    PointCloudBuffer::Config buffer;
+    MapPreparation::Config preparation;
+    /// The default map backend (a Plugins::map replaces it).
+    OvpcMapBackend::Config ovpc;
+    /// The default planner: the box check's rules and the search (the box's size and the turning
+    /// radius come from `vehicle`).
+    planner::LocalPlanner::Config planner;
+    planner::LocalGoalSelection::Config local_goal;
+    planner::Replanning::Config replan;
+    PathChoice path_choice;
+    Progress progress;
+    /// The default follower (its steering geometry comes from `vehicle`).
+    controller::PurePursuit::Config follower;
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Section(OVPC_FIELD(c, timing), "when the stack runs");
       v.Section(OVPC_FIELD(c, vehicle), "the robot's own geometry");
       v.Section(OVPC_FIELD(c, buffer), "the paper's point cloud buffer");
       v.Section(OVPC_FIELD(c, preparation), "what happens to the buffered cloud before the map is made");
@@ -102,23 +144,14 @@ class Navigator {
       v.Section(OVPC_FIELD(c, planner), "RRTConnect in Reeds-Shepp space (the paper's)");
       v.Section(OVPC_FIELD(c, local_goal), "where each plan goes");
       v.Section(OVPC_FIELD(c, replan), "the paper's triggers");
+      v.Section(OVPC_FIELD(c, path_choice), "which path is driven");
+      v.Section(OVPC_FIELD(c, progress), "route progress");
       v.Section(OVPC_FIELD(c, follower), "pure pursuit");
-      v.Field(OVPC_FIELD(c, goal_candidates), "goals", "local goals tried per re-plan until one gives a path");
-      v.Field(OVPC_FIELD(c, route_end_any_heading), "", "the route's end may be reached at any heading");
-      v.Field(OVPC_FIELD(c, known_support_margin_m), "m", "the vehicle stands on its unseen footprint grown by this");
-      v.Field(OVPC_FIELD(c, blocked_stop_short_m), "m", "a blocked path is driven up to this far before the block");
-      v.Field(OVPC_FIELD(c, min_prefix_m), "m", "a shorter remaining prefix is dropped");
-      v.Field(OVPC_FIELD(c, keep_path_within_m), "m", "a periodic re-plan must be this much shorter; < 0: paper");
-      v.Field(OVPC_FIELD(c, cusp_cost_m), "m", "a change of direction counts this many metres");
-      v.Field(OVPC_FIELD(c, rollout_margin_m), "m", "the follower's rollout keeps the box grown by this clear; < 0: off");
-      v.Field(OVPC_FIELD(c, progress_back_m), "m", "route progress is tracked this far back");
-      v.Field(OVPC_FIELD(c, progress_ahead_m), "m", "... and this far ahead");
-      v.Field(OVPC_FIELD(c, latency_s), "s", "a cycle takes effect this long after its data; 0: at once");
     }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
-    /// The config with every geometry field derived from `vehicle` (what the navigator runs with).
-    Config Derived() const;
+    /// The box the default planner checks: `vehicle`'s size with `planner.vehicle`'s rules.
+    planner::VehicleBox Box() const { return planner::VehicleBox::Of(vehicle, planner.vehicle); }
   };
 
   /// Plug-ins; a null one is the default (OvpcMapBackend, RrtConnectPlanner, PurePursuitFollower
@@ -130,8 +163,10 @@ class Navigator {
   };
 
   /// @param route_O the global route in the odometry frame, in driving order (at least one point).
+  /// @param planner_seed seeds the default planner's random sources (the testbed gives the run's seed).
   /// @throws std::invalid_argument for an invalid config or route.
-  Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins = {});
+  Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O, Plugins plugins = {},
+            std::uint32_t planner_seed = 1);
   ~Navigator();
   Navigator(const Navigator&) = delete;
   Navigator& operator=(const Navigator&) = delete;
@@ -142,7 +177,7 @@ class Navigator {
   /// Buffers one LiDAR scan (points in the sensor frame with the sensor's odometry pose).
   void AddScan(Scan scan);
   /// Tracks route progress at `T_O_B`; when a map cycle is due at `time_s`, starts one (mapping and
-  /// planning from the scans so far), and when a cycle's Config::latency_s has passed, waits for it
+  /// planning from the scans so far), and when a cycle's Timing::latency_s has passed, waits for it
   /// and puts its result into effect. Returns true if a cycle's result took effect.
   bool Update(double time_s, const Eigen::Isometry3d& T_O_B);
   /// With `on` and a latency, each map-and-plan cycle runs on a thread of its own while the caller
@@ -181,8 +216,9 @@ class Navigator {
   void ClearRecords();
   /// Counters and stage timings.
   NavigatorStats stats() const;
-  /// The effective configuration (geometry derived from the vehicle model).
   const Config& config() const { return config_; }
+  /// The box the default planner and the checks use (Config::Box()).
+  const planner::VehicleBox& box() const { return box_; }
 
  private:
   // The re-planning state (odometry frame O). The navigator keeps the one in effect; a cycle starts
@@ -219,6 +255,7 @@ class Navigator {
   void KeepValidPrefix(Job* job, std::size_t closest, std::size_t blocked_index) const;
 
   Config config_;
+  planner::VehicleBox box_;  // config_.Box()
   std::vector<Eigen::Vector2d> route_O_;
   std::unique_ptr<MapBackend> backend_;
   std::unique_ptr<PathPlanner> planner_;

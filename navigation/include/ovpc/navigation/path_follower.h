@@ -30,8 +30,13 @@ class PathFollower {
 class PurePursuitFollower final : public PathFollower {
  public:
   /// @throws std::invalid_argument for an invalid config.
-  explicit PurePursuitFollower(const controller::PurePursuit::Config& config) : config_(config) { config_.Validate(); }
-  void Follow(const planner::Path& path_O) override { follower_.emplace(config_, path_O); }
+  explicit PurePursuitFollower(const controller::PurePursuit::Config& config,
+                               const controller::SteeringGeometry& steering = {})
+      : config_(config), steering_(steering) {
+    config_.Validate();
+    steering_.Validate();
+  }
+  void Follow(const planner::Path& path_O) override { follower_.emplace(config_, path_O, steering_); }
   void Clear() override { follower_.reset(); }
   bool has_path() const override { return follower_.has_value(); }
   bool done() const override { return follower_ && follower_->done(); }
@@ -42,6 +47,7 @@ class PurePursuitFollower final : public PathFollower {
 
  private:
   controller::PurePursuit::Config config_;
+  controller::SteeringGeometry steering_;
   std::optional<controller::PurePursuit> follower_;
 };
 

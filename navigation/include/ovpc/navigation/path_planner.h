@@ -32,7 +32,10 @@ class PathPlanner {
 class RrtConnectPlanner final : public PathPlanner {
  public:
   /// @throws std::invalid_argument for an invalid config.
-  explicit RrtConnectPlanner(const planner::LocalPlanner::Config& config) : planner_(config) {}
+  /// `vehicle` gives the box's size and turning radius; `seed` seeds each plan's random sources.
+  explicit RrtConnectPlanner(const planner::LocalPlanner::Config& config, const VehicleModel& vehicle = {},
+                             std::uint32_t seed = 1)
+      : planner_(config, vehicle, seed) {}
   planner::PlanResult Plan(const planner::PlanningMap& map, const planner::Pose2& start, const planner::Pose2& goal,
                            const std::vector<double>& other_goal_yaws) const override {
     return planner_.Plan(map, start, goal, other_goal_yaws);

@@ -42,16 +42,15 @@ struct PlanResult {
 /// Determinism: OMPL draws per-object seeds from a process-wide generator that can be seeded only
 /// once, before the first OMPL object exists (ompl::RNG::setSeed). The constructor does that through
 /// SeedOmplOnce. On top of it, every random source that shapes the path (the state sampler, the
-/// planner's and the path simplifier's generators) gets Config::seed as its own seed on each call, so
+/// planner's and the path simplifier's generators) gets the constructor's seed as its own seed on each call, so
 /// the same seed gives the same path in one process however many plans ran before. The budget is a
 /// number of iterations, never wall-clock time.
 class LocalPlanner {
  public:
   struct Config {
-    VehicleBox vehicle;
-    /// Reeds-Shepp turning radius of the rear axle centre. 3.7 m: half the Gator's 7.3 m turning
-    /// circle (docs/REFERENCE.md).
-    double turning_radius_m = VehicleModel{}.turning_radius_m;
+    /// The box check's rules; the box's size and the Reeds-Shepp turning radius come from the
+    /// VehicleModel given to the constructor.
+    BoxRules vehicle;
     /// Planning budget in RRTConnect iterations, replacing the paper's 0.1 s: a plan that finds no
     /// path spends about 0.1 s of CPU time on 500 iterations on the benchmark's scenes
     /// (bench/planner_bench.cc), while plans that succeed need a median of 10 to 30.
@@ -64,7 +63,6 @@ class LocalPlanner {
     double output_resolution_m = 0.1;
     /// Shortcut and vertex-reduction rounds of the path simplifier (0: no simplification).
     unsigned simplify_rounds = 2;
-    std::uint32_t seed = 1;
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
       v.Section(OVPC_FIELD(c, vehicle), "the vehicle box's rules");
@@ -78,8 +76,10 @@ class LocalPlanner {
     void Validate() const;
   };
 
-  /// @throws std::invalid_argument for an invalid config.
-  explicit LocalPlanner(const Config& config);
+  /// `vehicle` gives the box's size and the turning radius (3.7 m for the default Gator: half its
+  /// 7.3 m turning circle, docs/REFERENCE.md); `seed` seeds every random source of each plan.
+  /// @throws std::invalid_argument for an invalid config or vehicle.
+  explicit LocalPlanner(const Config& config, const VehicleModel& vehicle = {}, std::uint32_t seed = 1);
 
   /// Plans from `start` to `goal` (yaw normalised to [-pi, pi) first). Never throws on a bad
   /// problem: an invalid start or goal, or no path within the budget, is a status.
@@ -95,9 +95,16 @@ class LocalPlanner {
                                               std::size_t from_index = 0) const;
 
   const Config& config() const { return config_; }
+  /// The box the planner checks (the vehicle's size with the config's rules).
+  const VehicleBox& box() const { return box_; }
+  double turning_radius_m() const { return turning_radius_m_; }
+  std::uint32_t seed() const { return seed_; }
 
  private:
   Config config_;
+  VehicleBox box_;
+  double turning_radius_m_;
+  std::uint32_t seed_;
 };
 
 /// Calls ompl::RNG::setSeed(seed) the first time it runs in the process and does nothing on later

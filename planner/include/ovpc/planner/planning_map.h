@@ -13,17 +13,11 @@
 
 namespace ovpc::planner {
 
-/// The vehicle as the collision check sees it: an oriented box around the body and the sensor mast.
-/// Its dimensions default to the vehicle model's (ovpc/core/vehicle_model.h, the paper's Gator TE);
-/// navigation::Navigator derives them from its own VehicleModel.
-struct VehicleBox {
-  double length_m = VehicleModel{}.length_m;
-  double width_m = VehicleModel{}.width_m;
-  double height_m = VehicleModel{}.height_m;  ///< ground to the top of the sensor mast
+/// The rules of the vehicle box check: settings only. The box's size comes from the vehicle model
+/// (VehicleBox::Of).
+struct BoxRules {
   double margin_m = 0.1;             ///< added to every side and to the top
   double ground_clearance_m = 0.2;   ///< the box bottom, above the ground at the pose
-  /// Box centre ahead of the pose origin (the rear axle).
-  double centre_ahead_m = 0.5 * VehicleModel{}.length_m - VehicleModel{}.rear_overhang_m;
   double footprint_depth_m = 0.5;    ///< non-traversable points down to this depth below the ground
                                      ///< under the footprint also block the pose (kAllPoints)
   /// What must hold for the ground under the box, below the ground clearance.
@@ -33,8 +27,6 @@ struct VehicleBox {
                  ///< point; low non-traversable points between the wheels pass under the chassis
   };
   FootprintCheck footprint_check = FootprintCheck::kAllPoints;
-  double wheelbase_m = VehicleModel{}.wheelbase_m;  ///< front axle ahead of the pose origin (kWheels)
-  double track_m = VehicleModel{}.track_m;  ///< wheel centre to wheel centre across (kWheels)
   double wheel_support_m = 0.5;      ///< farthest a wheel may be from its nearest visible point (kWheels)
   /// kWheels: a wheel whose nearest visible point is farther than this must also have traversable
   /// seen ground beyond it, as seen from the sensor (a point within wheel_support_m at least as far
@@ -72,6 +64,24 @@ struct VehicleBox {
     v.Field(OVPC_FIELD(c, max_tilt_deg), "deg", "wheel_contacts: steepest plane through the wheels");
     v.Field(OVPC_FIELD(c, max_roll_deg), "deg", "the placed box's roll; 90: no limit (paper)");
   }
+  /// @throws std::invalid_argument naming the offending field.
+  void Validate() const;
+};
+
+/// The vehicle as the collision check sees it: an oriented box around the body and the sensor mast,
+/// its size from a VehicleModel, checked by the BoxRules. The defaults are the vehicle model's
+/// (ovpc/core/vehicle_model.h, the paper's Gator TE) with the default rules.
+struct VehicleBox : BoxRules {
+  double length_m = VehicleModel{}.length_m;
+  double width_m = VehicleModel{}.width_m;
+  double height_m = VehicleModel{}.height_m;  ///< ground to the top of the sensor mast
+  /// Box centre ahead of the pose origin (the rear axle).
+  double centre_ahead_m = 0.5 * VehicleModel{}.length_m - VehicleModel{}.rear_overhang_m;
+  double wheelbase_m = VehicleModel{}.wheelbase_m;  ///< front axle ahead of the pose origin (kWheels)
+  double track_m = VehicleModel{}.track_m;  ///< wheel centre to wheel centre across (kWheels)
+
+  /// The box of `vehicle` checked by `rules`.
+  static VehicleBox Of(const VehicleModel& vehicle, const BoxRules& rules = {});
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
 };

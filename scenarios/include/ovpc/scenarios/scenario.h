@@ -76,8 +76,4 @@ struct Scenario {
   void Validate() const;
 };
 
-/// The navigator's configuration for a run: the scenario's, with the planner seeded from `seed` and
-/// the geometry derived from its vehicle model (what result.json records).
-navigation::Navigator::Config NavigatorConfigFor(const Scenario& scenario, std::uint64_t seed);
-
 }  // namespace ovpc::scenarios

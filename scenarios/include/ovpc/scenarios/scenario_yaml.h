@@ -75,6 +75,6 @@ Scenario ParseScenario(const std::string& yaml_text, const std::string& name_for
 
 /// The effective configuration of a run of `scenario` with `seed` as YAML (`navigator:`, then the
 /// testbed's `record:`): what `ovpc run --print-config` prints; a valid preset itself.
-std::string FormatRunConfig(const Scenario& scenario, std::uint64_t seed);
+std::string FormatRunConfig(const Scenario& scenario);
 
 }  // namespace ovpc::scenarios
