@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "internal_util.h"
+#include "ovpc/core/internal/cell_table.h"
 
 namespace ovpc {
 namespace {
@@ -44,8 +45,7 @@ class SubsampleThreshold {
 };
 
 // Voxel hits accumulated in one pass: per voxel its key, the sum of its points and their count, in
-// the order of each voxel's first point. An open-addressing table maps keys to voxels; each slot
-// holds a fingerprint of its key, so that probing past other voxels' slots rarely touches them.
+// the order of each voxel's first point, found by key in a CellTable.
 // `Key` is the integer type of the voxel indices: std::int32_t keeps the voxels small (and more of
 // them in cache) when every index fits in it (see KeysFitInt32), std::int64_t works for any input.
 template <typename Key>
@@ -57,12 +57,9 @@ class VoxelAccumulator {
   /// Empties the accumulator for voxels of `voxel_size_m`; `max_points` bounds the points to come.
   void Reset(double voxel_size_m, std::size_t max_points) {
     inv_ = 1.0 / voxel_size_m;
-    // Sized for the voxels of the previous use (the table grows when needed), at most twice the
+    // Sized for the voxels of the previous use (the table grows when needed), at most for the
     // points: a smaller table stays in cache.
-    std::size_t capacity = 64;
-    while (capacity < std::min(2 * max_points, 3 * voxels_.size())) capacity *= 2;
-    mask_ = capacity - 1;
-    slots_.assign(capacity, Slot{-1, 0});
+    table_.Reset(std::min(max_points, 3 * voxels_.size() / 2));
     voxels_.clear();
   }
 
@@ -70,11 +67,11 @@ class VoxelAccumulator {
   /// misses of a batch overlap.
   void AddBatch(const Vec3* points, std::size_t n) {
     Key keys[kBatch][3];
-    std::uint64_t hashes[kBatch];
+    std::uint32_t hashes[kBatch];
     for (std::size_t i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) keys[i][a] = static_cast<Key>(FloorToInt(points[i][a] * inv_));
-      hashes[i] = Hash(keys[i]);
-      __builtin_prefetch(&slots_[hashes[i] & mask_]);
+      hashes[i] = internal::CellHash(keys[i]);
+      table_.Prefetch(hashes[i]);
     }
     for (std::size_t i = 0; i < n; ++i) Add(keys[i], hashes[i], points[i]);
   }
@@ -101,10 +98,6 @@ class VoxelAccumulator {
   }
 
  private:
-  struct Slot {
-    std::int32_t voxel;  // index into voxels_, -1 if empty
-    std::uint32_t tag;   // fingerprint of the voxel's key
-  };
   struct Voxel {
     Key key[3];
     std::uint32_t count;
@@ -116,46 +109,22 @@ class VoxelAccumulator {
     return static_cast<double>(t) > x && t != std::numeric_limits<std::int64_t>::min() ? t - 1 : t;
   }
 
-  static std::uint64_t Hash(const Key key[3]) { return internal::HashCellKey(key[0], key[1], key[2]); }
-
-  void Add(const Key key[3], std::uint64_t hash, const Vec3& p) {
-    const auto tag = static_cast<std::uint32_t>(hash >> 32);
-    std::size_t slot = hash & mask_;
-    while (true) {
-      Slot& s = slots_[slot];
-      if (s.voxel < 0) {
-        s = Slot{static_cast<std::int32_t>(voxels_.size()), tag};
-        voxels_.push_back({{key[0], key[1], key[2]}, 1u, p});
-        if (2 * voxels_.size() > slots_.size()) Grow();
-        return;
-      }
-      if (s.tag == tag) {
-        Voxel& v = voxels_[static_cast<std::size_t>(s.voxel)];
-        if (v.key[0] == key[0] && v.key[1] == key[1] && v.key[2] == key[2]) {
-          v.sum += p;
-          ++v.count;
-          return;
-        }
-      }
-      slot = (slot + 1) & mask_;
-    }
-  }
-
-  // Doubles the table and re-inserts the voxels (their order is kept).
-  void Grow() {
-    mask_ = 2 * slots_.size() - 1;
-    slots_.assign(mask_ + 1, Slot{-1, 0});
-    for (std::size_t i = 0; i < voxels_.size(); ++i) {
-      const std::uint64_t hash = Hash(voxels_[i].key);
-      std::size_t slot = hash & mask_;
-      while (slots_[slot].voxel >= 0) slot = (slot + 1) & mask_;
-      slots_[slot] = Slot{static_cast<std::int32_t>(i), static_cast<std::uint32_t>(hash >> 32)};
+  void Add(const Key key[3], std::uint32_t hash, const Vec3& p) {
+    bool inserted = false;
+    const std::uint32_t id = table_.FindOrInsert(
+        key, hash, [this](std::uint32_t v) { return voxels_[v].key; },
+        [this] { return static_cast<std::uint32_t>(voxels_.size()); }, &inserted);
+    if (inserted) {
+      voxels_.push_back({{key[0], key[1], key[2]}, 1u, p});
+    } else {
+      Voxel& v = voxels_[id];
+      v.sum += p;
+      ++v.count;
     }
   }
 
   double inv_ = 1.0;
-  std::size_t mask_ = 0;
-  std::vector<Slot> slots_;
+  internal::CellTable table_;
   std::vector<Voxel> voxels_;
 };
 
@@ -231,8 +200,7 @@ Points Subsample(const Points& points, std::size_t max_points, std::uint64_t see
 }
 
 // The voxels of the buffered scans, in a grid fixed in frame O. Voxels live in a vector (a freed one
-// is reused) and an open-addressing table maps a voxel's index triple to it; removal shifts the
-// probe sequence back, so the table never fills with tombstones.
+// is reused) and a CellTable maps a voxel's index triple to it.
 class PointCloudBuffer::Grid {
  public:
   static constexpr double kSteps = 1048576.0;  // 2^20 positions along a voxel edge
@@ -247,10 +215,7 @@ class PointCloudBuffer::Grid {
     std::int64_t sum[3];  // of the points' positions in the voxel, in 1 / kSteps of its edge
   };
 
-  explicit Grid(double voxel_size_m) : size_(voxel_size_m), inv_(1.0 / voxel_size_m) {
-    slots_.assign(1024, Slot{0, 0});
-    mask_ = slots_.size() - 1;
-  }
+  explicit Grid(double voxel_size_m) : size_(voxel_size_m), inv_(1.0 / voxel_size_m) { table_.Reset(512); }
 
   /// Puts n <= kBatch points into their voxels at once: their slots are prefetched first, so that the cache misses
   /// overlap. ok[i] says whether point i was added.
@@ -260,8 +225,8 @@ class PointCloudBuffer::Grid {
     std::uint32_t hashes[kBatch];
     for (std::size_t i = 0; i < n; ++i) {
       ok[i] = Locate(p_O[i], keys[i], &entries[i]);
-      hashes[i] = ok[i] ? static_cast<std::uint32_t>(Hash(keys[i])) : 0u;
-      __builtin_prefetch(&slots_[hashes[i] & mask_]);
+      hashes[i] = ok[i] ? internal::CellHash(keys[i]) : 0u;
+      table_.Prefetch(hashes[i]);
     }
     for (std::size_t i = 0; i < n; ++i) {
       if (ok[i]) Insert(keys[i], hashes[i], &entries[i]);
@@ -290,16 +255,9 @@ class PointCloudBuffer::Grid {
     return c;
   }
 
-  static std::uint64_t Hash(const std::int32_t key[3]) { return internal::HashCellKey(key[0], key[1], key[2]); }
-
   const std::vector<Voxel>& voxels() const { return voxels_; }
 
  private:
-  struct Slot {
-    std::uint32_t voxel_plus_1;  // 0: empty
-    std::uint32_t hash;          // the low 32 bits of the key's hash: home slot and fingerprint
-  };
-
   // The voxel index of p_O and its position in the voxel; false when an index is beyond int32.
   bool Locate(const Vec3& p_O, std::int32_t key[3], Entry* entry) const {
     for (int a = 0; a < 3; ++a) {
@@ -324,64 +282,32 @@ class PointCloudBuffer::Grid {
   }
 
   std::uint32_t FindOrInsert(const std::int32_t key[3], std::uint32_t hash) {
-    std::size_t slot = hash & mask_;
-    while (slots_[slot].voxel_plus_1 != 0) {
-      const Slot& s = slots_[slot];
-      if (s.hash == hash) {
-        const Voxel& v = voxels_[s.voxel_plus_1 - 1];
-        if (v.key[0] == key[0] && v.key[1] == key[1] && v.key[2] == key[2]) return s.voxel_plus_1 - 1;
-      }
-      slot = (slot + 1) & mask_;
-    }
-    std::uint32_t id;
-    if (!free_.empty()) {
-      id = free_.back();
-      free_.pop_back();
-    } else {
-      id = static_cast<std::uint32_t>(voxels_.size());
-      voxels_.emplace_back();
-    }
-    voxels_[id] = Voxel{{key[0], key[1], key[2]}, 0u, {0, 0, 0}};
-    slots_[slot] = Slot{id + 1, hash};
-    if (2 * ++live_ > slots_.size()) Grow();
+    bool inserted = false;
+    const std::uint32_t id = table_.FindOrInsert(
+        key, hash, [this](std::uint32_t v) { return voxels_[v].key; },
+        [this] {
+          if (free_.empty()) {
+            voxels_.emplace_back();
+            return static_cast<std::uint32_t>(voxels_.size() - 1);
+          }
+          const std::uint32_t reused = free_.back();
+          free_.pop_back();
+          return reused;
+        },
+        &inserted);
+    if (inserted) voxels_[id] = Voxel{{key[0], key[1], key[2]}, 0u, {0, 0, 0}};
     return id;
   }
 
   void Free(std::uint32_t id) {
-    const Voxel& v = voxels_[id];
-    std::size_t hole = static_cast<std::uint32_t>(Hash(v.key)) & mask_;
-    while (slots_[hole].voxel_plus_1 != id + 1) hole = (hole + 1) & mask_;
-    // Backward shift: move up every later slot of the run that may live in the hole.
-    for (std::size_t j = (hole + 1) & mask_; slots_[j].voxel_plus_1 != 0; j = (j + 1) & mask_) {
-      const std::size_t home = slots_[j].hash & mask_;
-      if (((j - home) & mask_) >= ((j - hole) & mask_)) {
-        slots_[hole] = slots_[j];
-        hole = j;
-      }
-    }
-    slots_[hole] = Slot{0, 0};
+    table_.Erase(id, internal::CellHash(voxels_[id].key));
     free_.push_back(id);
-    --live_;
-  }
-
-  void Grow() {
-    std::vector<Slot> old = std::move(slots_);
-    slots_.assign(2 * old.size(), Slot{0, 0});
-    mask_ = slots_.size() - 1;
-    for (const Slot& s : old) {
-      if (s.voxel_plus_1 == 0) continue;
-      std::size_t slot = s.hash & mask_;
-      while (slots_[slot].voxel_plus_1 != 0) slot = (slot + 1) & mask_;
-      slots_[slot] = s;
-    }
   }
 
   double size_, inv_;
   std::vector<Voxel> voxels_;
   std::vector<std::uint32_t> free_;
-  std::vector<Slot> slots_;
-  std::size_t mask_ = 0;
-  std::size_t live_ = 0;
+  internal::CellTable table_;
 };
 
 PointCloudBuffer::PointCloudBuffer(const Config& config) : config_(config) {
@@ -517,7 +443,7 @@ PointCloudBuffer::LocalCloud PointCloudBuffer::Build() const {
       continue;
     }
     kept_L.push_back(p_L);
-    ranks.push_back(Mix(salt ^ Grid::Hash(v.key)));
+    ranks.push_back(Mix(salt ^ internal::HashCellKey(v.key[0], v.key[1], v.key[2])));
   }
   stats.voxels_kept = kept_L.size();
   if (kept_L.size() <= config_.max_points) {

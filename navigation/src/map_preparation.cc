@@ -6,11 +6,12 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <utility>
-
-#include "ovpc/core/internal/hash.h"
 #include <vector>
+
+#include "ovpc/core/internal/cell_table.h"
 
 namespace ovpc::navigation {
 
@@ -37,13 +38,19 @@ void MapPreparation::Config::Validate() const {
 
 namespace {
 
-// The points of a cloud by cell of a cubic grid: an open-addressing table from a cell's integer key
-// to its run of point indices (increasing) in one array. Built once per call, no allocation per
-// cell.
+// The points of a cloud by cell of a cubic grid: a CellTable from a cell's integer key to its run
+// of point indices (increasing) in one array. Built once per call, no allocation per cell.
 class CellIndex {
  public:
   using Key = std::array<std::int64_t, 3>;
 
+ private:
+  // The table's view of the stored keys.
+  auto KeyOfCell() const {
+    return [this](std::uint32_t c) { return keys_[c].data(); };
+  }
+
+ public:
   CellIndex(double cell_m) : inv_(1.0 / cell_m) {}
 
   // The cell of `p`. Keys are clamped to +-2^62: a clamp is monotone and moves neighbouring keys
@@ -61,48 +68,37 @@ class CellIndex {
 
   // Indexes the points `indices` of `points` (in that order).
   void Build(const Points& points, const std::vector<std::uint32_t>& indices) {
-    std::size_t capacity = 16;
-    while (capacity < 2 * indices.size()) capacity *= 2;
-    mask_ = capacity - 1;
-    slots_.assign(capacity, -1);
+    table_.Reset(indices.size());
     keys_.clear();
-    std::vector<std::int32_t> cell_of(indices.size());
+    std::vector<std::uint32_t> cell_of(indices.size());
     std::vector<std::uint32_t> count;
     for (std::size_t n = 0; n < indices.size(); ++n) {
       const Key k = KeyOf(points[indices[n]]);
-      std::size_t slot = Hash(k) & mask_;
-      while (slots_[slot] >= 0 && keys_[static_cast<std::size_t>(slots_[slot])] != k) slot = (slot + 1) & mask_;
-      if (slots_[slot] < 0) {
-        slots_[slot] = static_cast<std::int32_t>(keys_.size());
+      const std::uint32_t c = table_.FindOrInsert(k.data(), ovpc::internal::CellHash(k.data()), KeyOfCell(), [&] {
         keys_.push_back(k);
         count.push_back(0);
-      }
-      cell_of[n] = slots_[slot];
-      ++count[static_cast<std::size_t>(slots_[slot])];
+        return static_cast<std::uint32_t>(keys_.size() - 1);
+      });
+      cell_of[n] = c;
+      ++count[c];
     }
     start_.assign(keys_.size() + 1, 0);
     for (std::size_t c = 0; c < keys_.size(); ++c) start_[c + 1] = start_[c] + count[c];
     members_.resize(indices.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t n = 0; n < indices.size(); ++n) members_[fill[static_cast<std::size_t>(cell_of[n])]++] = indices[n];
+    for (std::size_t n = 0; n < indices.size(); ++n) members_[fill[cell_of[n]]++] = indices[n];
   }
 
   // The point indices in the cell `k` as [begin, end) of members(); empty if the cell is.
   std::pair<const std::uint32_t*, const std::uint32_t*> Cell(const Key& k) const {
-    std::size_t slot = Hash(k) & mask_;
-    while (slots_[slot] >= 0) {
-      const auto c = static_cast<std::size_t>(slots_[slot]);
-      if (keys_[c] == k) return {members_.data() + start_[c], members_.data() + start_[c + 1]};
-      slot = (slot + 1) & mask_;
-    }
-    return {nullptr, nullptr};
+    const std::optional<std::uint32_t> c = table_.Find(k.data(), ovpc::internal::CellHash(k.data()), KeyOfCell());
+    if (!c) return {nullptr, nullptr};
+    return {members_.data() + start_[*c], members_.data() + start_[*c + 1]};
   }
 
  private:
-  static std::uint64_t Hash(const Key& k) { return ovpc::internal::HashCellKey(k[0], k[1], k[2]); }
   double inv_;
-  std::size_t mask_ = 0;
-  std::vector<std::int32_t> slots_;
+  ovpc::internal::CellTable table_;
   std::vector<Key> keys_;
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> members_;
