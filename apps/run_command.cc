@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "ovpc/suite/output_folder.h"
 #include "ovpc/scenarios/closed_loop.h"
+#include "ovpc/scenarios/recorder.h"
 #include "ovpc/scenarios/report.h"
 #include "ovpc/scenarios/scenario_yaml.h"
 
@@ -26,6 +27,7 @@ struct RunOptions {
   bool map_given = false;
   bool print_config = false;
   bool frames = false;
+  bool mcap = false;
   bool quiet = false;
   int threads = 2;
 };
@@ -33,6 +35,7 @@ struct RunOptions {
 int RunScenario(const RunOptions& o) {
   std::vector<std::string> settings = o.settings;
   if (o.map_given) settings.push_back(MapSetting(o.map));
+  if (o.mcap) settings.emplace_back("record.mcap=true");
   scenarios::Scenario scenario;
   try {
     const scenarios::Preset preset = o.preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o.preset);
@@ -74,6 +77,7 @@ int RunScenario(const RunOptions& o) {
   scenarios::WriteResultJson(scenario, result, (dir / "result.json.part").string());
   std::filesystem::rename(dir / "result.json.part", dir / "result.json");
   std::cout << "wrote " << (dir / "result.json").string() << ", trajectory.csv, plans.csv, cycles.csv, topdown.png";
+  if (std::filesystem::exists(dir / scenarios::kRunLogName)) std::cout << ", " << scenarios::kRunLogName;
   if (!result.files.empty()) std::cout << " and " << result.files.size() << " snapshot/frame files";
   std::cout << "\n";
   return result.passed ? kExitOk : kExitFailure;
@@ -86,7 +90,7 @@ Runner RegisterRun(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("run", "Run one scenario in closed loop (headless) and score it");
   cmd->footer(
       "Writes DIR/result.json, DIR/trajectory.csv, DIR/plans.csv, DIR/cycles.csv, DIR/topdown.png and DIR/mesh_*.ply (and frame_*.png with\n"
-      "--frames). Exit codes: 0 every criterion passed, 1 a criterion failed, 2 bad input (unreadable or\n"
+      "--frames, run.mcap with --mcap). Exit codes: 0 every criterion passed, 1 a criterion failed, 2 bad input (unreadable or\n"
       "malformed scenario, unknown key, bad --set or --map).");
   cmd->add_option("scenario", o->scenario, "Scenario file (scenarios/*.yaml)")->required();
   o->seed_opt = cmd->add_option("--seed", o->seed, "Seed for every random source (default: the scenario's)");
@@ -102,6 +106,8 @@ Runner RegisterRun(CLI::App& app) {
   cmd->add_flag("--print-config", o->print_config,
                 "Print the run's effective configuration (navigator and record, preset form) and exit");
   cmd->add_flag("--frames", o->frames, "Render chase-camera PNG frames (EGL, CPU; slow)");
+  cmd->add_flag("--mcap", o->mcap,
+                "Write DIR/run.mcap, a run log that Foxglove opens (sets record.mcap=true; docs/RUN_LOGS.md)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line");
   cmd->add_option("--threads", o->threads,
                   "Threads for the run: with 2 the robot maps and plans beside the simulation for "

@@ -108,7 +108,10 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
     sim.Step();
     std::vector<sim::Simulator::SensorScan> scans = sim.TakeScans();
     t_physics.Add(MsSince(t));
-    for (auto& s : scans) nav.AddScan(std::move(s.scan));
+    for (auto& s : scans) {
+      recorder.Scan(s);
+      nav.AddScan(std::move(s.scan));
+    }
     const double time = sim.time_s();
     const Eigen::Isometry3d T_W_B = sim.T_W_B();
     referee.Observe(time, T_W_B, sim.BodyContacts());
@@ -147,6 +150,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   result.physics_lidar = t_physics.Stats();
   CopyStats(nav, &result);
   referee.Score(&result);
+  recorder.Finish(result);
   return result;
 }
 

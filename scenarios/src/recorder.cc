@@ -11,6 +11,7 @@
 #include "ovpc/io/cloud_io.h"
 #include "ovpc/sim/image.h"
 #include "format.h"
+#include "run_log.h"
 
 namespace ovpc::scenarios {
 namespace {
@@ -74,6 +75,39 @@ Recorder::Recorder(const Scenario& scenario, const RunOptions& options, const si
   if (options.out_dir.empty()) return;
   std::filesystem::create_directories(options.out_dir);
   RemoveRecorderPictures(options.out_dir);  // an earlier run's, which would sit beside this one's
+  const std::filesystem::path log = std::filesystem::path(options.out_dir) / kRunLogName;
+  std::filesystem::remove(log);  // an earlier run's, likewise
+  if (!scenario.record.mcap) return;
+  run_log_part_ = log.string() + ".part";
+  ToRunLog([&] { run_log_ = std::make_unique<RunLog>(run_log_part_, scenario.record, sim); });
+}
+
+template <class F>
+void Recorder::ToRunLog(const F& write) {
+  if (run_log_part_.empty()) return;
+  try {
+    write();
+  } catch (const std::exception& e) {
+    Warn(std::string("run log: ") + e.what());  // the log lost, not the run
+    run_log_.reset();
+    std::error_code ec;
+    std::filesystem::remove(run_log_part_, ec);
+    run_log_part_.clear();
+  }
+}
+
+void Recorder::Scan(const sim::Simulator::SensorScan& scan) {
+  if (run_log_) ToRunLog([&] { run_log_->Scan(scan); });
+}
+
+void Recorder::Finish(const RunResult& result) {
+  if (!run_log_) return;
+  ToRunLog([&] {
+    run_log_->Finish(result);
+    run_log_.reset();
+    const std::string part = run_log_part_;
+    std::filesystem::rename(part, part.substr(0, part.size() - 5));  // drop ".part": complete
+  });
 }
 
 Recorder::~Recorder() = default;
@@ -83,6 +117,7 @@ void Recorder::Trajectory(double now_s, double time_s, const sim::Simulator& sim
   next_record_s_ += 1.0 / scenario_.record.record_rate_hz;
   result_->trajectory.push_back(
       {time_s, sim.T_W_B(), sim.T_O_B(), sim.forward_speed_mps(), command.steering_rad, command.speed_mps});
+  if (run_log_) ToRunLog([&] { run_log_->Poses(time_s, sim, command); });
 }
 
 void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const navigation::Navigator& navigator) {
@@ -90,12 +125,17 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const nav
   // may have started a latency earlier: its frame L is placed through O, not through the vehicle).
   const Eigen::Isometry3d T_W_L = T_W_O * navigator.map_T_O_L();
   const auto& log = navigator.plan_log();
+  if (run_log_ && plans_seen_ < log.size()) {
+    const std::vector<navigation::PlanAttempt> attempts(log.begin() + static_cast<std::ptrdiff_t>(plans_seen_), log.end());
+    ToRunLog([&] { run_log_->Plans(time_s, attempts, navigator); });
+  }
   for (; plans_seen_ < log.size(); ++plans_seen_) {
     result_->plan_log.push_back({log[plans_seen_], T_W_L});
   }
   if (navigator.map_count() == maps_seen_) return;  // no new map this cycle
   maps_seen_ = navigator.map_count();
   const navigation::MapView view = navigator.map_backend().View();
+  if (run_log_) ToRunLog([&] { run_log_->Map(time_s, navigator, view); });
   if (!view.points_L) return;
   const auto& pts = *view.points_L;
   // A map without flags (a user's backend may have none) is drawn as traversable.

@@ -363,6 +363,8 @@ void ApplySetting(YAML::Node root, const std::string& setting, const std::string
 void Recording::Config::Validate() const {
   if (!(record_rate_hz > 0.0) || !std::isfinite(record_rate_hz)) throw std::invalid_argument("record.record_rate_hz must be > 0");
   if (!(mesh_snapshot_period_s >= 0.0)) throw std::invalid_argument("record.mesh_snapshot_period_s must be >= 0");
+  if (!(mcap_scan_period_s >= 0.0) || !std::isfinite(mcap_scan_period_s)) throw std::invalid_argument("record.mcap_scan_period_s must be >= 0");
+  if (!(mcap_map_period_s >= 0.0) || !std::isfinite(mcap_map_period_s)) throw std::invalid_argument("record.mcap_map_period_s must be >= 0");
 }
 
 void Scenario::Validate() const {

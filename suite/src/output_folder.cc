@@ -71,7 +71,7 @@ bool IsSafeComponent(const std::string& name, std::string* why) {
 
 bool IsRunFile(const std::string& name) {
   static const char* const kFiles[] = {"result.json", "result.json.part", "run.log", "trajectory.csv", "plans.csv",
-                                       "cycles.csv", "topdown.png", kMarker, kLockFile};
+                                       "cycles.csv", "topdown.png", scenarios::kRunLogName, kMarker, kLockFile};
   for (const char* f : kFiles) {
     if (name == f) return true;
   }

@@ -169,7 +169,8 @@ TEST(RunConfigTest, TheDefaultPresetListsEverySettingAndPrintsAsItReads) {
   // Every key the Configs declare is in the file, in the same order, with the value it reads as;
   // the testbed's record: settings are not the robot's, and follow with their own defaults.
   EXPECT_EQ(FormatRunConfig(s),
-            WithoutComments(ReadText(file)) + "record:\n  record_rate_hz: 10\n  mesh_snapshot_period_s: 10\n");
+            WithoutComments(ReadText(file)) + "record:\n  record_rate_hz: 10\n  mesh_snapshot_period_s: 10\n  mcap: false\n"
+                                                  "  mcap_scan_period_s: 0.5\n  mcap_map_period_s: 1\n");
 }
 
 TEST(RunConfigTest, PrintedConfigReadsBackAsAPresetToTheSameConfig) {

@@ -18,6 +18,11 @@
 
 namespace ovpc::scenarios {
 
+class RunLog;
+
+/// The run log's name in the output folder (written as run.mcap.part and renamed when complete).
+inline constexpr const char* kRunLogName = "run.mcap";
+
 /// The map points a run keeps for its top-down picture (RunResult::map_points), in memory bounded
 /// whatever the run's length: every 7th point of each map while they are at most `max_points`
 /// (about 5 minutes of simulated time at the default bound: such a run's picture is what it always
@@ -63,6 +68,10 @@ class Recorder {
   void MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const navigation::Navigator& navigator);
   /// A chase-camera frame when one is due (RunOptions::frames).
   void Frame(double time_s, const sim::Simulator& sim, const navigation::Navigator& navigator);
+  /// A LiDAR scan as the simulator gave it (for the run log).
+  void Scan(const sim::Simulator::SensorScan& scan);
+  /// At the run's end, once `result` is scored: the run log's last lines, and run.mcap complete.
+  void Finish(const RunResult& result);
 
  private:
   const Scenario& scenario_;
@@ -81,6 +90,11 @@ class Recorder {
   // end of the run: the result files are what must be whole.
   void Warn(const std::string& what);
   int warnings_ = 0;
+  // The run log (record.mcap), null when off or after a write failed (a warning, not the run's end).
+  std::unique_ptr<RunLog> run_log_;
+  std::string run_log_part_;
+  template <class F>
+  void ToRunLog(const F& write);
 };
 
 }  // namespace ovpc::scenarios

@@ -46,10 +46,16 @@ struct Recording {
   struct Config {
     double record_rate_hz = 10.0;          ///< trajectory rows
     double mesh_snapshot_period_s = 10.0;  ///< mesh_*.ply snapshots (0: none)
+    bool mcap = false;                     ///< run.mcap, the run log for Foxglove (docs/RUN_LOGS.md)
+    double mcap_scan_period_s = 0.5;       ///< a LiDAR scan in run.mcap at most this often (0: every scan)
+    double mcap_map_period_s = 1.0;        ///< the map in run.mcap at most this often (0: every map cycle)
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
       v.Field(OVPC_FIELD(c, record_rate_hz), "Hz", "trajectory.csv rows per simulated second");
       v.Field(OVPC_FIELD(c, mesh_snapshot_period_s), "s", "mesh_*.ply snapshots; 0: none");
+      v.Field(OVPC_FIELD(c, mcap), "", "run.mcap, a run log that Foxglove opens (ovpc run --mcap)");
+      v.Field(OVPC_FIELD(c, mcap_scan_period_s), "s", "a LiDAR scan in run.mcap at most this often; 0: every scan");
+      v.Field(OVPC_FIELD(c, mcap_map_period_s), "s", "the map in run.mcap at most this often; 0: every map cycle");
     }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
