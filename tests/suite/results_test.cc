@@ -155,6 +155,33 @@ TEST_F(ResultsTest, TheReportWrittenFromItsSummaryIsTheSameReport) {
   EXPECT_EQ(summary["suite"]["preset"]["hash"], ContentHash("navigator: {}\n"));
 }
 
+// Shards' result files merged: the report of the whole, byte for byte, family runs included (each
+// shard's file has only its own runs' draws).
+TEST_F(ResultsTest, MergedShardsGiveTheWholeReport) {
+  const SuiteResults whole = MadeUpSuite((dir_ / "runs").string());
+  WriteReport(whole, (dir_ / "whole").string());
+  std::vector<std::string> folders;
+  for (int k = 3; k >= 1; --k) {
+    SuiteResults part = whole;
+    part.suite.shard = k;
+    part.suite.shards = 3;
+    part.jobs.clear();
+    for (const Job& job : whole.jobs) {
+      if (static_cast<int>(job.index % 3) == k - 1) part.jobs.push_back(job);
+    }
+    folders.push_back((dir_ / ("shard_" + std::to_string(k))).string());
+    WriteReport(part, folders.back());
+  }
+  EXPECT_EQ(MergeShards(folders, (dir_ / "merged").string()), kExitBadInput) << "the whole suite's: a malformed input";
+  for (const char* file : {"junit.xml", "short_family/pass_rate.csv", "short_family/runs.csv", "short_family/pass_rate_post_y.svg"}) {
+    EXPECT_EQ(ReadBytes(dir_ / "merged" / file), ReadBytes(dir_ / "whole" / file)) << file;
+  }
+  nlohmann::json merged = nlohmann::json::parse(ReadBytes(dir_ / "merged" / "summary.json"));
+  EXPECT_EQ(merged["suite"]["merged_shards"], 3);
+  merged["suite"]["merged_shards"] = 0;
+  EXPECT_EQ(merged, nlohmann::json::parse(ReadBytes(dir_ / "whole" / "summary.json"))) << "but for the shards it was merged from";
+}
+
 TEST_F(ResultsTest, AResultFileThatCannotBeReadBackIsRefusedNamingIt) {
   const fs::path path = dir_ / "summary.json";
   const auto refusal = [&](const std::string& text) {
