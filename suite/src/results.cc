@@ -9,6 +9,7 @@
 
 #include "ovpc/suite/errors.h"
 #include "ovpc/suite/output_folder.h"
+#include "ovpc/suite/runner.h"
 
 #ifndef OVPC_BUILD_ID
 #define OVPC_BUILD_ID "unknown"
