@@ -39,5 +39,6 @@ Runner RegisterSynth(CLI::App& app);
 Runner RegisterRun(CLI::App& app);
 Runner RegisterSuite(CLI::App& app);
 Runner RegisterFamily(CLI::App& app);
+Runner RegisterMerge(CLI::App& app);
 
 }  // namespace ovpc::apps

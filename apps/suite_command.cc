@@ -1,6 +1,8 @@
 // `ovpc suite`: the command line of the suite runner (ovpc/suite/runner.h).
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <tuple>
 
 #include "commands.h"
 #include "ovpc/suite/runner.h"
@@ -21,7 +23,9 @@ Runner RegisterSuite(CLI::App& app) {
       "pass_rate_<parameter>.svg). Exit codes: 0 every run passed (a family run: its expectation held), 1 some run\n"
       "failed or had an error, 2 bad input (a malformed scenario or family file among them), 130 or 143 stopped by\n"
       "SIGINT or SIGTERM (the runs are stopped and the report of what finished is written). A folder under OUT is\n"
-      "cleared only if ovpc made it; one suite writes OUT at a time.");
+      "cleared only if ovpc made it; one suite writes OUT at a time. With --shard K/N only shard K of N of the planned\n"
+      "runs is run (each run in exactly one shard, the shards balanced by the runs' time limits); `ovpc merge` makes\n"
+      "the report of the whole from the shards' folders. OUT/summary.json holds everything the report is made from.");
   cmd->add_option("inputs", o->inputs, "Scenario or family folders (every *.yaml in them) or files")->required();
   cmd->add_option("-j,--jobs", o->jobs, "Runs at the same time")->capture_default_str();
   cmd->add_option("--seeds", o->seeds, "K seeds for every scenario: F..F+K-1 (F = --first-seed)")->capture_default_str();
@@ -40,8 +44,13 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
   cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")
       ->capture_default_str();
-  return [o, map_opt]() {
+  auto shard = std::make_shared<std::string>();
+  CLI::Option* shard_opt = cmd->add_option("--shard", *shard,
+                                           "K/N: run shard K of N (1 <= K <= N) of the planned runs; merge the shards' folders "
+                                           "with ovpc merge");
+  return [o, map_opt, shard, shard_opt]() {
     o->map_given = map_opt->count() > 0;
+    if (shard_opt->count() > 0) std::tie(o->shard, o->shards) = suite::ParseShard(*shard);
     o->program = std::filesystem::read_symlink("/proc/self/exe").string();
     return suite::RunSuite(*o);
   };

@@ -244,6 +244,7 @@ void Planner::AddFamily(const std::string& file) {
   for (int k = 2; tag_files_.count(folder) && tag_files_[folder] != file; ++k) folder = in.family.name + "_" + std::to_string(k);
   tag_files_[folder] = file;
   in.dir = (fs::path(o_.out) / folder).string();
+  in.folder = folder;
   MakeFresh(in.dir);
   in.files = scenarios::WriteDraws(in.family, in.draws, in.dir);
   const std::size_t first_job = jobs.size();

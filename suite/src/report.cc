@@ -10,12 +10,20 @@
 #include "ovpc/scenarios/pass_rate.h"
 #include "ovpc/suite/output_folder.h"
 #include "ovpc/suite/report.h"
+#include "results.h"
 
 namespace ovpc::suite {
 namespace {
 
 namespace fs = std::filesystem;
 using scenarios::Verdict;
+
+struct Report {
+  const SuiteResults& results;
+  const std::vector<Job>& jobs;
+  const std::vector<FamilyInput>& families;
+  std::string out;
+};
 
 // Text for XML: the five special characters as entities, and the control characters XML 1.0
 // cannot hold (all below 0x20 but tab, line feed and carriage return) as "\xNN".
@@ -128,7 +136,7 @@ void PrintSeeds(const Report& rep) {
 // Sweep table: pass rate and mean figures per combination of values.
 void PrintSweeps(const Report& rep) {
   std::printf("\nsweep: %-40s %6s %12s %12s\n", "settings", "passed", "mean sim [s]", "mean dist [m]");
-  for (const auto& combo : rep.combos) {
+  for (const auto& combo : rep.results.suite.combinations) {
     int n = 0, ok = 0;
     double sim_s = 0.0, dist = 0.0;
     for (const Job& job : rep.jobs) {
@@ -166,6 +174,8 @@ std::string RunsCsv(const Report& rep, std::size_t f) {
 void FamilyReports(const Report& rep) {
   for (std::size_t f = 0; f < rep.families.size(); ++f) {
     const FamilyInput& in = rep.families[f];
+    const std::string dir = (fs::path(rep.out) / in.folder).string();
+    MakeFolder(dir);
     std::vector<scenarios::JudgedRun> runs;
     for (const Job& job : rep.jobs) {
       if (job.draw && job.draw->family == f) {
@@ -179,11 +189,11 @@ void FamilyReports(const Report& rep) {
       std::printf("\n%s", scenarios::FormatPassRateTable(in.family.name, tables.back()).c_str());
       std::string name = p.name;
       std::replace(name.begin(), name.end(), '/', '_');
-      WriteFile(fs::path(in.dir) / ("pass_rate_" + name + ".svg"), scenarios::PassRateSvg(in.family.name, tables.back()));
+      WriteFile(fs::path(dir) / ("pass_rate_" + name + ".svg"), scenarios::PassRateSvg(in.family.name, tables.back()));
     }
-    WriteFile(fs::path(in.dir) / "pass_rate.csv", scenarios::PassRateCsv(tables));
-    WriteFile(fs::path(in.dir) / "runs.csv", RunsCsv(rep, f));
-    std::printf("wrote %s/pass_rate.csv, runs.csv and pass_rate_<parameter>.svg\n", in.dir.c_str());
+    WriteFile(fs::path(dir) / "pass_rate.csv", scenarios::PassRateCsv(tables));
+    WriteFile(fs::path(dir) / "runs.csv", RunsCsv(rep, f));
+    std::printf("wrote %s/pass_rate.csv, runs.csv and pass_rate_<parameter>.svg\n", dir.c_str());
   }
 }
 
@@ -254,23 +264,9 @@ void WriteJunit(const Report& rep, std::size_t passed) {
 }
 
 void WriteSummary(const Report& rep, std::size_t passed) {
-  nlohmann::json runs = nlohmann::json::array();
-  std::size_t errors = 0;
-  for (const Job& job : rep.jobs) {
-    runs.push_back({{"scenario", job.scenario}, {"file", job.file}, {"seed", job.seed}, {"map", job.map}, {"settings", job.settings},
-                    {"passed", Passed(job)}, {"exit_code", job.exit_code}, {"out", job.out_dir}, {"result", job.result}});
-    if (!job.error.empty()) runs.back()["error"] = job.error, ++errors;
-    if (job.draw) runs.back()["family"] = DrawJson(rep.families, *job.draw);
-  }
-  nlohmann::json families = nlohmann::json::array();
-  for (const FamilyInput& in : rep.families) {
-    families.push_back({{"name", in.family.name}, {"file", in.family.path}, {"draws", in.draws.size()}, {"folder", in.dir},
-                        {"pass_rate_csv", (fs::path(in.dir) / "pass_rate.csv").string()}});
-  }
-  nlohmann::json summary = {{"runs", runs}, {"passed", passed}, {"errors", errors}, {"total", rep.jobs.size()}};
-  if (!rep.families.empty()) summary["families"] = families;
   // Names are any bytes a file held: invalid UTF-8 is replaced, not thrown on.
-  WriteFile(fs::path(rep.out) / "summary.json", summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  WriteFile(fs::path(rep.out) / "summary.json",
+            SummaryJson(rep.results, passed).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace
@@ -302,10 +298,11 @@ nlohmann::json DrawJson(const std::vector<FamilyInput>& families, const DrawRun&
           {"verdict", scenarios::VerdictName(run.verdict)}};
 }
 
-std::size_t WriteReport(const Report& rep) {
+std::size_t WriteReport(const SuiteResults& results, const std::string& out) {
+  const Report rep{results, results.jobs, results.families, out};
   PrintRuns(rep);
-  if (rep.seeds > 1) PrintSeeds(rep);
-  if (rep.sweeps) PrintSweeps(rep);
+  if (results.suite.seeds > 1) PrintSeeds(rep);
+  if (!results.suite.sweeps.empty()) PrintSweeps(rep);
   fs::create_directories(rep.out);
   FamilyReports(rep);
   const std::size_t passed = std::count_if(rep.jobs.begin(), rep.jobs.end(), Passed);

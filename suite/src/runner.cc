@@ -12,7 +12,9 @@
 #include "ovpc/suite/output_folder.h"
 #include "ovpc/suite/report.h"
 #include "plan.h"
+#include "results.h"
 #include "scheduler.h"
+#include "shard.h"
 
 namespace ovpc::suite {
 namespace {
@@ -26,6 +28,9 @@ void CheckOptions(const Options& o) {
   if (static_cast<long long>(o.first_seed) + o.seeds - 1 > INT_MAX) {
     throw BadInput("--first-seed " + std::to_string(o.first_seed) + " with --seeds " + std::to_string(o.seeds) +
                    " goes past the largest seed, " + std::to_string(INT_MAX));
+  }
+  if (o.shards < 1 || o.shards > kMaxShards || o.shard < 1 || o.shard > o.shards) {
+    throw BadInput("--shard must be K/N with 1 <= K <= N <= " + std::to_string(kMaxShards));
   }
   if (o.samples < 1 || o.samples > 100000) throw BadInput("--samples must be 1-100000, got " + std::to_string(o.samples));
   if (o.map_given) {
@@ -41,6 +46,41 @@ scenarios::Preset LoadPresetOption(const Options& o) {
     return o.preset.empty() ? scenarios::DefaultPreset() : scenarios::LoadPreset(o.preset);
   } catch (const scenarios::ScenarioError& e) {
     throw BadInput(e.what());
+  }
+}
+
+// What the suite was asked to run, and by which build.
+SuiteRecord Record(const Options& o, const std::vector<std::vector<std::string>>& combos, const scenarios::Preset& preset) {
+  SuiteRecord s;
+  s.inputs = o.inputs;
+  s.seeds = o.seeds;
+  s.first_seed = o.first_seed;
+  s.sweeps = o.sweeps;
+  s.combinations = combos;
+  s.skip_labels = o.skip_labels;
+  s.map = o.map_given ? o.map : "";
+  s.samples = o.samples;
+  s.family_seed = o.family_seed;
+  s.preset_file = o.preset;
+  s.preset_hash = ContentHash(preset.yaml);
+  s.build = BuildId();
+  s.shard = o.shard;
+  s.shards = o.shards;
+  return s;
+}
+
+// The planned runs numbered in order, fingerprinted, and this shard's part of them kept.
+void TakeShard(std::vector<Job>& planned, const std::vector<std::string>& files, const Options& o, SuiteResults& results) {
+  std::vector<std::string> ids;
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    planned[i].index = i;
+    ids.push_back(RunIdentity(planned[i], results.families, o.out));
+  }
+  results.suite.planned = planned.size();
+  results.suite.plan_fingerprint = PlanFingerprint(files, results.families, planned, ids);
+  const std::vector<int> shard_of = AssignShards(planned, ids, o.shards);
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    if (shard_of[i] == o.shard) results.jobs.push_back(std::move(planned[i]));
   }
 }
 
@@ -66,17 +106,21 @@ int RunSuite(const Options& o) {
   Planner plan(o, combos, preset);
   for (const std::string& file : files) plan.AddFile(file);
   if (plan.jobs.empty()) throw BadInput("no scenario to run");
-  const int stop_signal = RunJobs(plan.jobs, o, plan.families);
+  SuiteResults results{Record(o, combos, preset), {}, std::move(plan.families)};
+  results.suite.malformed = plan.malformed;
+  TakeShard(plan.jobs, files, o, results);
+  const int stop_signal = RunJobs(results.jobs, o, results.families);
+  results.suite.stop_signal = stop_signal;
   std::size_t passed = 0;
   try {
-    passed = WriteReport({plan.jobs, plan.families, o.out, o.seeds, !o.sweeps.empty(), combos});
+    passed = WriteReport(results, o.out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ovpc suite: %s\n", e.what());
     return stop_signal != 0 ? 128 + stop_signal : kExitFailure;
   }
   if (stop_signal != 0) return 128 + stop_signal;
   if (plan.malformed) return kExitBadInput;
-  return passed == plan.jobs.size() ? kExitOk : kExitFailure;
+  return passed == results.jobs.size() ? kExitOk : kExitFailure;
 }
 
 }  // namespace ovpc::suite

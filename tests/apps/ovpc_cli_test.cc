@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <regex>
+#include <utility>
 #include <sstream>
 #include <string>
 
@@ -636,6 +638,94 @@ TEST_F(CliTest, ReportsEscapeWhatTheyQuote) {
   const std::string junit = ReadAll(Path("out/junit.xml"));
   EXPECT_EQ(junit.find('\x01'), std::string::npos) << junit;
   EXPECT_NE(junit.find("\\x01"), std::string::npos) << junit;
+}
+
+// junit.xml without the runs' wall-clock times (the only thing two runs of a run may differ in).
+std::string JunitWithoutTimes(const std::string& junit) { return std::regex_replace(junit, std::regex(" time=\"[^\"]*\""), ""); }
+
+// A suite split into shards (--shard K/N) and merged (`ovpc merge`) reports what the unsharded
+// suite reports: the same testcases in the same order, the same verdicts. Each run is in one shard.
+TEST_F(CliTest, ShardsMergeIntoTheUnshardedReport) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  const RunResult whole = Run("suite " + Path("short.yaml") + " --seeds 3 --jobs 2 --out " + Path("whole"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.out << whole.err;
+  const std::string shards = std::string(OVPC_CLI_PATH) + " suite " + Path("short.yaml") + " --seeds 3 --jobs 1 --shard ";
+  ASSERT_EQ(std::system((shards + "1/3 --out " + Path("s1") + " >/dev/null 2>&1 & " + shards + "2/3 --out " + Path("s2") +
+                         " >/dev/null 2>&1 & " + shards + "3/3 --out " + Path("s3") + " >/dev/null 2>&1; wait")
+                            .c_str()),
+            0);
+  for (const char* shard : {"s1", "s2", "s3"}) {
+    const nlohmann::json s = nlohmann::json::parse(ReadAll(Path(std::string(shard) + "/summary.json")));
+    EXPECT_EQ(s["runs"].size(), 1u) << shard << ": three equal runs, one in each shard";
+    EXPECT_EQ(s["suite"]["plan"]["runs"], 3);
+  }
+  const RunResult merged = Run("merge " + Path("s3") + " " + Path("s1") + " " + Path("s2") + " --out " + Path("merged"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.out << merged.err;
+  EXPECT_NE(merged.out.find("3 of 3 runs passed"), std::string::npos) << merged.out;
+  EXPECT_EQ(JunitWithoutTimes(ReadAll(Path("merged/junit.xml"))), JunitWithoutTimes(ReadAll(Path("whole/junit.xml"))));
+  const nlohmann::json a = nlohmann::json::parse(ReadAll(Path("whole/summary.json")));
+  const nlohmann::json b = nlohmann::json::parse(ReadAll(Path("merged/summary.json")));
+  ASSERT_EQ(b["runs"].size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (const char* key : {"index", "scenario", "seed", "settings", "map", "passed", "exit_code"}) {
+      EXPECT_EQ(b["runs"][i][key], a["runs"][i][key]) << "run " << i << " " << key;
+    }
+    EXPECT_EQ(b["runs"][i]["result"]["passed"], a["runs"][i]["result"]["passed"]) << i;
+  }
+  EXPECT_EQ(b["passed"], a["passed"]);
+  EXPECT_EQ(b["suite"]["plan"], a["suite"]["plan"]) << "the same planned runs, sharded or not";
+  EXPECT_EQ(b["suite"]["merged_shards"], 3);
+}
+
+// A merge is of every shard of one suite, once each, or nothing is written: a missing, repeated,
+// foreign or stopped shard is refused (exit 2, one line naming the folder). The shards here hold
+// only malformed files' errors, so that nothing is simulated.
+TEST_F(CliTest, AMergeOfMissingRepeatedOrForeignShardsIsRefused) {
+  WriteText("a.yaml", "name: a\ntime_limit_s: [\n");
+  WriteText("b.yaml", "name: b\nroute: 3\n");
+  const std::string suite = "suite " + Path("a.yaml") + " " + Path("b.yaml") + " --shard ";
+  for (const char* k : {"1", "2"}) ASSERT_EQ(Run(suite + k + "/2 --out " + Path(std::string("s") + k)).exit_code, 2);
+  ASSERT_EQ(Run("suite " + Path("a.yaml") + " --shard 2/2 --out " + Path("other_inputs")).exit_code, 2);
+  ASSERT_EQ(Run(suite + "2/2 --seeds 2 --out " + Path("other_seeds")).exit_code, 2);
+  ASSERT_EQ(Run(suite + "2/3 --out " + Path("other_count")).exit_code, 2);
+  WriteText("b.yaml", "name: b\nroute: 4\n");  // the same names, another file: another planned run list
+  ASSERT_EQ(Run(suite + "2/2 --out " + Path("other_plan")).exit_code, 2);
+  fs::create_directories(Path("empty"));
+  fs::copy(Path("s2"), Path("stopped"), fs::copy_options::recursive);
+  nlohmann::json stopped = nlohmann::json::parse(ReadAll(Path("stopped/summary.json")));
+  stopped["suite"]["stop_signal"] = 15;
+  WriteText("stopped/summary.json", stopped.dump());
+  fs::copy(Path("s2"), Path("other_build"), fs::copy_options::recursive);
+  nlohmann::json build = stopped;
+  build["suite"]["stop_signal"] = 0;
+  build["suite"]["build"] = "v0-elsewhere";
+  WriteText("other_build/summary.json", build.dump());
+  const std::pair<std::string, std::string> refused[] = {
+      {Path("s1"), "shard 2/2 is missing"},
+      {Path("s1") + " " + Path("s1") + " " + Path("s2"), Path("s1") + ": shard 1/2 again (also " + Path("s1") + ")"},
+      {Path("s1") + " " + Path("other_inputs"), Path("other_inputs") + ": a shard of another suite than " + Path("s1") + ": other inputs"},
+      {Path("s1") + " " + Path("other_seeds"), Path("other_seeds") + ": a shard of another suite than " + Path("s1") + ": other seeds"},
+      {Path("s1") + " " + Path("other_count"), "another shard count (3, not 2)"},
+      {Path("s1") + " " + Path("other_plan"), Path("other_plan") + ": a shard of another suite than " + Path("s1") + ": another planned run list"},
+      {Path("s1") + " " + Path("other_build"), Path("other_build") + ": a shard of another suite than " + Path("s1") + ": another build (v0-elsewhere"},
+      {Path("s1") + " " + Path("stopped"), Path("stopped") + ": shard 2/2 was stopped by signal 15"},
+      {Path("s1") + " " + Path("empty"), Path("empty") + ": no summary.json"},
+  };
+  for (const auto& [folders, message] : refused) {
+    const RunResult r = Run("merge " + folders + " --out " + Path("merged"));
+    EXPECT_EQ(r.exit_code, 2) << folders;
+    EXPECT_EQ(CountLines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(Path("merged"))) << "nothing written: " << folders;
+  }
+  const RunResult ok = Run("merge " + Path("s2") + " " + Path("s1") + " --out " + Path("merged"));
+  EXPECT_EQ(ok.exit_code, 2) << "the whole suite's exit code: a malformed file among its inputs";
+  const nlohmann::json summary = nlohmann::json::parse(ReadAll(Path("merged/summary.json")));
+  ASSERT_EQ(summary["runs"].size(), 2u);
+  EXPECT_EQ(summary["runs"][0]["scenario"], "a") << "in the planned order";
+  EXPECT_EQ(summary["runs"][1]["scenario"], "b");
+  EXPECT_EQ(Run("merge --out " + Path("x")).exit_code, 2);
+  EXPECT_NE(Run("merge --help").out.find("--out"), std::string::npos);
 }
 
 }  // namespace

@@ -1,4 +1,6 @@
 // A suite's runs and their reports: the tables, JUnit XML, summary.json and the families' pass rates.
+// summary.json is the suite's result file: it holds everything the report is made from, so that
+// LoadSuiteResults gives back what WriteReport wrote (a shard's results are merged from it).
 #pragma once
 
 #include <sys/types.h>
@@ -19,7 +21,8 @@ struct FamilyInput {
   scenarios::Family family;
   std::vector<scenarios::Draw> draws;
   std::vector<std::string> files;  ///< the drawn scenario files, per draw
-  std::string dir;                 ///< OUT/<family>
+  std::string dir;                 ///< where it was drawn: OUT/<family>
+  std::string folder;              ///< its folder's name under a report's folder: <family>[_k]
 };
 
 /// A run of a family's draw: which, and what it had to do.
@@ -30,6 +33,7 @@ struct DrawRun {
 };
 
 struct Job {
+  std::size_t index = 0;  ///< its place among the suite's planned runs (every shard's): the report's order
   std::string file;
   std::string scenario;
   std::uint64_t seed = 1;
@@ -55,19 +59,52 @@ nlohmann::json DrawJson(const std::vector<FamilyInput>& families, const DrawRun&
 /// "key=v key2=v2".
 std::string SettingsLabel(const std::vector<std::string>& settings);
 
-struct Report {
-  const std::vector<Job>& jobs;
-  const std::vector<FamilyInput>& families;
-  std::string out;
+/// What a suite was asked to run, and by which build: the suite record of summary.json. Shards of one
+/// suite have equal records but for `shard` (and `stop_signal`).
+struct SuiteRecord {
+  std::vector<std::string> inputs;  ///< as given
   int seeds = 1;
-  bool sweeps = false;
-  std::vector<std::vector<std::string>> combos;
+  int first_seed = 1;
+  std::vector<std::string> sweeps;                                  ///< "key=v1,v2" as given
+  std::vector<std::vector<std::string>> combinations = {{}};        ///< in the planned order
+  std::vector<std::string> skip_labels;
+  std::string map;                  ///< --map ("" when not given)
+  long long samples = 6;            ///< families: draws per grid point
+  std::uint64_t family_seed = 1;
+  std::string preset_file;          ///< "" for the built-in preset
+  std::string preset_hash;          ///< ContentHash of the preset's text
+  std::string build;                ///< the ovpc build's identity (BuildId())
+  int shard = 1;                    ///< this report's part of the planned runs: shard `shard` of `shards`
+  int shards = 1;
+  std::size_t planned = 0;          ///< runs in the whole suite (every shard)
+  std::string plan_fingerprint;     ///< PlanFingerprint of the whole planned run list
+  bool malformed = false;           ///< a malformed input among the planned runs (exit code 2)
+  int stop_signal = 0;              ///< the signal that stopped the runs (0: every run ran)
+  int merged = 0;                   ///< shards this report was merged from (0: the suite's own)
+};
+
+/// A suite's results: what WriteReport reports and LoadSuiteResults reads back.
+struct SuiteResults {
+  SuiteRecord suite;
+  std::vector<Job> jobs;             ///< in the planned order (Job::index ascending)
+  std::vector<FamilyInput> families;
 };
 
 /// The summary table, the per-seed and sweep tables, the families' pass-rate tables (and their
 /// files: OUT/<family>/pass_rate.csv, runs.csv, pass_rate_<parameter>.svg), junit.xml and
-/// summary.json, each written whole or not at all. Returns the number of runs that passed.
+/// summary.json in `out`, each written whole or not at all. Returns the number of runs that passed.
 /// @throws std::runtime_error naming the first file that could not be written whole.
-std::size_t WriteReport(const Report& report);
+std::size_t WriteReport(const SuiteResults& results, const std::string& out);
+
+/// The results a summary.json holds (WriteReport's): the report written from them again is the same.
+/// @throws BadInput, one line naming the file and the problem (unreadable, not JSON, no suite record,
+/// a family file's text that no longer reads, an index out of range).
+SuiteResults LoadSuiteResults(const std::string& summary_path);
+
+/// The ovpc build's identity: `git describe` of the source tree when it was configured, or "unknown".
+std::string BuildId();
+
+/// A 64-bit FNV-1a hash of `text` as "fnv1a64:<16 hex digits>" (the preset's, the plan's).
+std::string ContentHash(const std::string& text);
 
 }  // namespace ovpc::suite

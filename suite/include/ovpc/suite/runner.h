@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ovpc/suite/errors.h"
@@ -20,6 +21,7 @@ inline constexpr int kExitBadInput = 2;  ///< bad arguments or a malformed input
 /// A suite larger than this is split (fewer seeds or inputs): refused before anything is planned.
 inline constexpr std::size_t kMaxRuns = 100000;
 inline constexpr std::size_t kMaxCombinations = 10000;
+inline constexpr int kMaxShards = 10000;
 
 struct Options {
   std::string program;              ///< the `ovpc` executable that runs one scenario (`ovpc run`)
@@ -36,6 +38,8 @@ struct Options {
   std::string out = "out/suite";
   long long samples = 6;            ///< families: random draws per grid point
   std::uint64_t family_seed = 1;    ///< families: the seed the draws are made from
+  int shard = 1;                    ///< --shard K/N: run shard K of N of the planned runs (ShardOf)
+  int shards = 1;
 };
 
 /// Runs the suite: prints a progress line and the tables, writes OUT/junit.xml, OUT/summary.json
@@ -44,6 +48,18 @@ struct Options {
 /// had an error, kExitBadInput a malformed file among the inputs, 128 + the signal that stopped it.
 /// @throws BadInput for bad options, inputs or an output folder that cannot be used (nothing run).
 int RunSuite(const Options& options);
+
+/// Merges the reports of a sharded suite's shards (their folders' summary.json files alone) into
+/// `out`: the tables, junit.xml, summary.json and the families' files of the whole suite, its runs in
+/// the planned order, as the unsharded suite writes them. Returns the exit code the whole suite
+/// would have had.
+/// @throws BadInput naming the folder and what is wrong: no summary.json, a shard missing or given
+/// twice, one of another build, inputs, settings, preset or planned run list, one that was stopped.
+int MergeShards(const std::vector<std::string>& folders, const std::string& out);
+
+/// "K/N" of --shard: 1 <= K <= N <= kMaxShards.
+/// @throws BadInput otherwise.
+std::pair<int, int> ParseShard(const std::string& text);
 
 /// "navigator.map=NAME" for a map backend's name (ovpc, octomap or elevation).
 /// @throws BadInput naming the allowed names.
