@@ -92,12 +92,6 @@ void Navigator::PathChoice::Validate() const {
   }
 }
 
-void Navigator::Progress::Validate() const {
-  if (!(back_m >= 0.0) || !(ahead_m > 0.0) || !std::isfinite(back_m) || !std::isfinite(ahead_m)) {
-    throw std::invalid_argument("navigator.progress.back_m must be >= 0 and ahead_m > 0");
-  }
-}
-
 void Navigator::Config::Validate() const {
   timing.Validate();
   vehicle.Validate();
@@ -121,6 +115,7 @@ Navigator::Navigator(const Config& config, std::vector<Eigen::Vector2d> route_O,
   for (const auto& p : route_O_) {
     if (!p.allFinite()) throw std::invalid_argument("navigator: a route waypoint is not finite");
   }
+  if (route_O_.size() >= 2) tracker_.emplace(route_O_, config_.progress);
   backend_ = plugins.map ? std::move(plugins.map) : std::make_unique<OvpcMapBackend>(config_.ovpc);
   planner_ = plugins.planner ? std::move(plugins.planner) : std::make_unique<RrtConnectPlanner>(config_.planner, config_.vehicle, planner_seed);
   builtin_follower_ = !plugins.follower;
@@ -192,7 +187,7 @@ bool Navigator::CycleRunning() const { return job_ && job_->on_worker && worker_
 
 bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   const Eigen::Vector2d here = T_O_B.translation().head<2>();
-  progress_m_ = planner::RouteProgress(route_O_, here, progress_m_, config_.progress.back_m, config_.progress.ahead_m);
+  if (tracker_) progress_m_ = tracker_->Update(here);
   // The vehicle is at most its straight-line distance short of the goal it drives to: a vehicle
   // cutting a sharp corner (as a local goal across it invites) is far from the route, and the
   // nearest route point inside the window stays on the leg it left, which held the goal back at
@@ -200,6 +195,7 @@ bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   if (const auto& goal = state_.last_goal_O) {
     const double to_goal = (here - Eigen::Vector2d(goal->pose.x_m, goal->pose.y_m)).norm();
     progress_m_ = std::max(progress_m_, goal->route_progress_m - to_goal);
+    if (tracker_) tracker_->Advance(progress_m_);
   }
   bool took_effect = false;
   if (job_ && time_s + 1e-9 >= job_->effect_s) {

@@ -42,6 +42,25 @@ std::vector<RoutePoint> Resample(const std::vector<Eigen::Vector2d>& route_O, co
   return out;
 }
 
+// Distance from p to the segment [a, b].
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+// The first route index in (first, end) whose route from `first` strays more than `max_detour_m`
+// from the chord between the two; `end` if none does.
+std::size_t DetourEnd(const std::vector<RoutePoint>& route, std::size_t first, std::size_t end, double max_detour_m) {
+  for (std::size_t i = first + 2; i < end; ++i) {
+    for (std::size_t j = first + 1; j < i; ++j) {
+      if (DistanceToSegment(route[j].position, route[first].position, route[i].position) > max_detour_m) return i;
+    }
+  }
+  return end;
+}
+
 // Where along the resampled route "ahead" starts (the vehicle's progress, or else the route point
 // closest to the vehicle), and where it ends: once the route has been outside known free space for
 // more than max_gap_m.
@@ -63,6 +82,7 @@ std::pair<std::size_t, std::size_t> AheadRange(const PlanningMap& map, const std
     const double limit = (vehicle_progress_m ? *vehicle_progress_m : route[closest].progress_m) + config.max_ahead_m;
     while (end > closest + 1 && route[end - 1].progress_m > limit) --end;
   }
+  if (std::isfinite(config.max_detour_m)) end = std::min(end, DetourEnd(route, closest, end, config.max_detour_m));
   if (std::isfinite(config.max_gap_m)) {
     double gap_start = -1.0;
     for (std::size_t i = closest; i < end; ++i) {
@@ -91,6 +111,7 @@ void LocalGoalSelection::Config::Validate() const {
   }
   if (!(max_gap_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_gap_m must be > 0");
   if (!(max_ahead_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_ahead_m must be > 0");
+  if (!(max_detour_m > 0.0)) throw std::invalid_argument("LocalGoalSelection::Config: max_detour_m must be > 0");
   if (!(previous_goal_penalty >= 0.0) || !std::isfinite(previous_goal_penalty)) {
     throw std::invalid_argument("LocalGoalSelection::Config: previous_goal_penalty must be >= 0, got " +
                                 std::to_string(previous_goal_penalty));

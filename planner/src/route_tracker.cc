@@ -11,8 +11,14 @@ namespace ovpc::planner {
 RouteTracker::RouteTracker(std::vector<Eigen::Vector2d> route, const Config& config)
     : route_(std::move(route)), config_(config) {
   if (route_.size() < 2) throw std::invalid_argument("RouteTracker: a route needs at least two points");
-  if (!(config_.back_m >= 0.0) || !(config_.ahead_m > 0.0) || !(config_.on_route_m > 0.0) || !(config_.cut_ratio >= 0.0)) {
-    throw std::invalid_argument("RouteTracker::Config: back_m >= 0, ahead_m > 0, on_route_m > 0 and cut_ratio >= 0");
+  config_.Validate();
+}
+
+void RouteTracker::Config::Validate() const {
+  const auto finite = [](double v) { return std::isfinite(v); };
+  if (!(back_m >= 0.0) || !(ahead_m > 0.0) || !(on_route_m > 0.0) || !(cut_ratio >= 0.0) || !finite(back_m) ||
+      !finite(ahead_m) || !finite(on_route_m) || !finite(cut_ratio)) {
+    throw std::invalid_argument("RouteTracker::Config: back_m >= 0, ahead_m > 0, on_route_m > 0 and cut_ratio >= 0, all finite");
   }
 }
 

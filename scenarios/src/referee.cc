@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "ovpc/planner/local_goal.h"
@@ -58,6 +59,24 @@ bool WheelOffTerrain(const Eigen::Isometry3d& T_W_B, const sim::GatorParams& v, 
   return std::any_of(wheels.begin(), wheels.end(), [&inside](const Vec3& p) { return !Inside(p, inside); });
 }
 
+// The route length at the route point nearest `p`; of points about as near, the last along the
+// route (a lap's goal is at its end, not at its start).
+double LastNearestProgress(const std::vector<Eigen::Vector2d>& route, const Eigen::Vector2d& p) {
+  double best_d = std::numeric_limits<double>::infinity(), best_s = 0.0, s0 = 0.0;
+  for (std::size_t i = 0; i + 1 < route.size(); ++i) {
+    const Eigen::Vector2d ab = route[i + 1] - route[i];
+    const double len = ab.norm();
+    const double t = len > 0.0 ? std::clamp((p - route[i]).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+    const double d = (route[i] + t * ab - p).norm();
+    if (d <= best_d + 1e-6) {
+      best_d = std::min(best_d, d);
+      best_s = s0 + t * len;
+    }
+    s0 += len;
+  }
+  return best_s;
+}
+
 }  // namespace
 
 Referee::Referee(const Scenario& scenario, const sim::GatorParams& vehicle, const Eigen::Isometry3d& T_W_B)
@@ -65,7 +84,9 @@ Referee::Referee(const Scenario& scenario, const sim::GatorParams& vehicle, cons
       vehicle_(vehicle),
       last_position_(T_W_B.translation()),
       route_(scenario.route_m),
-      region_entered_(scenario.criteria.forbidden.size(), false) {}
+      region_entered_(scenario.criteria.forbidden.size(), false) {
+  if (scenario.criteria.goal_m) goal_progress_m_ = LastNearestProgress(scenario.route_m, *scenario.criteria.goal_m);
+}
 
 void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::vector<sim::BodyContact>& contacts) {
   distance_m_ += (T_W_B.translation() - last_position_).norm();
@@ -97,6 +118,8 @@ void Referee::Observe(double time_s, const Eigen::Isometry3d& T_W_B, const std::
 bool Referee::GoalReached(double time_s, const Eigen::Isometry3d& T_W_B) {
   const Criteria& c = scenario_.criteria;
   if (!c.goal_m || (T_W_B.translation().head<2>() - *c.goal_m).norm() > c.goal_radius_m) return false;
+  // Within the goal radius of the goal's place on the route, and the route tracker's slack.
+  if (best_progress_m_ < goal_progress_m_ - c.goal_radius_m - planner::RouteTracker::Config{}.on_route_m) return false;
   goal_time_s_ = time_s;
   return true;
 }

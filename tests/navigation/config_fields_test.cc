@@ -22,7 +22,7 @@ TEST(ConfigFieldsTest, EveryConfigOfTheStackDeclaresEveryMember) {
   EXPECT_TRUE(AllFieldsDeclared<controller::PurePursuit::Config>());
   EXPECT_TRUE(AllFieldsDeclared<Navigator::Timing>());
   EXPECT_TRUE(AllFieldsDeclared<Navigator::PathChoice>());
-  EXPECT_TRUE(AllFieldsDeclared<Navigator::Progress>());
+  EXPECT_TRUE(AllFieldsDeclared<planner::RouteTracker::Config>());
   EXPECT_TRUE(AllFieldsDeclared<Navigator::Config>());
 }
 

@@ -277,6 +277,38 @@ TEST(LocalGoalTest, CandidatesEndWhereTheRouteLeavesTheMapForLongerThanTheGap) {
   EXPECT_NEAR(home.front().pose.y_m, 3.0, 1e-12);
 }
 
+TEST(LocalGoalTest, CandidatesEndWhereTheRouteStraysFromTheChordByMoreThanTheDetour) {
+  // A U-turn inside the map: out along y = 0 to x = 6, round and back along y = 5. Without a limit
+  // the goal lies on the way back; with max_detour_m the candidates end before the route turns back.
+  const std::vector<Eigen::Vector2d> route = {{-7.0, 0.0}, {6.0, 0.0}, {8.5, 2.5}, {6.0, 5.0}, {-7.0, 5.0}};
+  LocalGoalSelection::Config config;
+  config.max_gap_m = 8.0;
+  const auto no_limit = SelectLocalGoal(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(no_limit.has_value());
+  EXPECT_GT(no_limit->route_progress_m, 20.0) << "past the turn, on the way back";
+  config.max_detour_m = 3.0;
+  const auto goals = SelectLocalGoals(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, config,
+                                      std::nullopt, 5, 0.0);
+  ASSERT_FALSE(goals.empty());
+  for (const LocalGoal& g : goals) {
+    EXPECT_LE(g.route_progress_m, 13.0 + 2 * 3.54) << "in the turn at most, not on the way back";
+    EXPECT_GT(g.pose.x_m, 5.0);
+  }
+  // Round the turn, the way back is a candidate: the route behind strays less.
+  const auto round = SelectLocalGoals(FlatMap(), VehicleBox{}, route, kIdentity, Pose2{7.0, 4.0, 2.4}, config,
+                                      std::nullopt, 1, 19.0);
+  ASSERT_EQ(round.size(), 1u);
+  EXPECT_GT(round.front().route_progress_m, 21.0);
+  // A straight route never strays: the same goal as without the limit.
+  const std::vector<Eigen::Vector2d> straight = {{-7.0, 0.0}, {40.0, 0.0}};
+  config.max_gap_m = std::numeric_limits<double>::infinity();
+  const auto a = SelectLocalGoal(FlatMap(), VehicleBox{}, straight, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  config.max_detour_m = std::numeric_limits<double>::infinity();
+  const auto b = SelectLocalGoal(FlatMap(), VehicleBox{}, straight, kIdentity, Pose2{-7.0, 0.0, 0.0}, config);
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(a->route_progress_m, b->route_progress_m);
+}
+
 TEST(LocalGoalTest, CandidatesEndAtMostMaxAheadAlongTheRoute) {
   // A hairpin inside the map: out along y = 0, back along y = 3. No gap stops the candidates, so
   // without a limit the goal lies on the way back and skips the turn.

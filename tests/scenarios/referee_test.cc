@@ -94,5 +94,34 @@ TEST(RefereeTest, ACutUTurnIsScoredFromWhereTheVehicleRejoinsTheRoute) {
   EXPECT_TRUE(CriterionPassed(r, "min_progress"));
 }
 
+TEST(RefereeTest, ALapsGoalAtItsStartCountsOnlyAfterTheLap) {
+  Scenario s;
+  s.sim.world.terrain.size_x_m = 60.0;
+  s.sim.world.terrain.size_y_m = 60.0;
+  s.route_m = {{0.0, 0.0}, {10.0, 0.0}, {10.0, 10.0}, {0.0, 10.0}, {0.0, 0.0}};
+  s.criteria.goal_m = Eigen::Vector2d(0.0, 0.0);
+  s.criteria.goal_radius_m = 1.5;
+  const sim::GatorParams gator;
+  Referee referee(s, gator, At(0.0, 0.0, 0.0));
+  double t = 0.0;
+  EXPECT_FALSE(referee.GoalReached(t, At(0.0, 0.0, 0.0))) << "at the start, before the lap";
+  const auto drive = [&](Eigen::Vector2d a, Eigen::Vector2d b, double yaw) {
+    bool reached = false;
+    for (int i = 1; i <= 100; ++i) {
+      const Eigen::Vector2d p = a + (b - a) * (i / 100.0);
+      referee.Observe(t += 0.1, At(p.x(), p.y(), yaw), {});
+      reached = reached || referee.GoalReached(t, At(p.x(), p.y(), yaw));
+    }
+    return reached;
+  };
+  EXPECT_FALSE(drive({0.0, 0.0}, {10.0, 0.0}, 0.0));
+  EXPECT_FALSE(drive({10.0, 0.0}, {10.0, 10.0}, kPi / 2));
+  EXPECT_FALSE(drive({10.0, 10.0}, {0.0, 10.0}, kPi));
+  EXPECT_TRUE(drive({0.0, 10.0}, {0.0, 0.0}, -kPi / 2)) << "back at the start after the lap";
+  RunResult r;
+  referee.Score(&r);
+  EXPECT_TRUE(CriterionPassed(r, "goal_reached"));
+}
+
 }  // namespace
 }  // namespace ovpc::scenarios

@@ -28,6 +28,7 @@
 #include "ovpc/planner/local_goal.h"
 #include "ovpc/planner/local_planner.h"
 #include "ovpc/planner/replan.h"
+#include "ovpc/planner/route_tracker.h"
 
 namespace ovpc::navigation {
 
@@ -104,20 +105,6 @@ class Navigator {
     void Validate() const;
   };
 
-  /// Route progress is tracked in a window this far back and ahead of the last progress, so that a
-  /// route passing near itself is not taken as done when the vehicle cuts across.
-  struct Progress {
-    double back_m = 5.0;
-    double ahead_m = 10.0;
-    template <class C, class V>
-    static void VisitFields(C& c, V& v) {
-      v.Field(OVPC_FIELD(c, back_m), "m", "route progress is searched this far back");
-      v.Field(OVPC_FIELD(c, ahead_m), "m", "... and this far ahead");
-    }
-    /// @throws std::invalid_argument naming the offending field.
-    void Validate() const;
-  };
-
   struct Config {
     Timing timing;
     VehicleModel vehicle;
@@ -131,7 +118,9 @@ class Navigator {
     planner::LocalGoalSelection::Config local_goal;
     planner::Replanning::Config replan;
     PathChoice path_choice;
-    Progress progress;
+    /// Route progress in the route's order (planner::RouteTracker): a route that comes back beside
+    /// itself is followed leg by leg.
+    planner::RouteTracker::Config progress;
     /// The default follower (its steering geometry comes from `vehicle`).
     controller::PurePursuit::Config follower;
     template <class C, class V>
@@ -268,6 +257,7 @@ class Navigator {
   double speed_mps_ = 0.0;  // measured, at the last control tick
   bool builtin_follower_ = true;  // no follower plug-in: the rollout models the follower
   PlanState state_;  // the re-planning state in effect
+  std::optional<planner::RouteTracker> tracker_;  // routes of two or more points
   double progress_m_ = 0.0;
   // The cycle started and not yet in effect, and the scans that arrived meanwhile.
   std::unique_ptr<Job> job_;

@@ -86,6 +86,12 @@ struct LocalGoalSelection {
     /// further on would skip the part in between; max_gap_m does not stop that when no gap lies
     /// between. Infinite: the whole route ahead (the paper's rule).
     double max_ahead_m = std::numeric_limits<double>::infinity();
+    /// Route points are candidates only while the route between the vehicle's place on it and the
+    /// point strays at most this far from the straight line between the two: a route that goes away
+    /// and comes back beside itself (a U-turn between lanes, laps, a figure of eight) is followed leg
+    /// by leg, never cut across to its way back. A corner cut short strays less. Infinite: no such
+    /// limit (the paper's rule).
+    double max_detour_m = std::numeric_limits<double>::infinity();
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
       v.Choice(OVPC_FIELD(c, mode), Choices<Mode>{{"route", Mode::kRoute}, {"reachable", Mode::kReachable}},
@@ -104,6 +110,7 @@ struct LocalGoalSelection {
       v.Field(OVPC_FIELD(c, keep_previous_within_m), "m", "keep the previous goal unless beaten by this; 0: paper");
       v.Field(OVPC_FIELD(c, max_gap_m), "m", "candidates end past a longer gap in known space; inf: paper");
       v.Field(OVPC_FIELD(c, max_ahead_m), "m", "candidates up to this far ahead along the route; inf: paper");
+      v.Field(OVPC_FIELD(c, max_detour_m), "m", "the route up to a candidate strays at most this far from the chord; inf: paper");
     }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;

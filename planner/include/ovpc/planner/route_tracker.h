@@ -1,9 +1,12 @@
 // Progress along a route in the route's order, for a vehicle that follows it.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "ovpc/core/config_fields.h"
 
 namespace ovpc::planner {
 
@@ -21,6 +24,15 @@ class RouteTracker {
     double ahead_m = 10.0;
     double on_route_m = 1.5;  ///< nearer than this to the route is on it
     double cut_ratio = 3.0;   ///< route length a cut corner may skip, per metre moved off the route
+    template <class C, class V>
+    static void VisitFields(C& c, V& v) {
+      v.Field(OVPC_FIELD(c, back_m), "m", "progress is searched this far back");
+      v.Field(OVPC_FIELD(c, ahead_m), "m", "... and this far ahead of the last progress");
+      v.Field(OVPC_FIELD(c, on_route_m), "m", "nearer than this to the route is on it");
+      v.Field(OVPC_FIELD(c, cut_ratio), "m/m", "route a cut corner may skip per metre moved off the route");
+    }
+    /// @throws std::invalid_argument naming the offending field.
+    void Validate() const;
   };
 
   /// @throws std::invalid_argument for a route of fewer than two points or a bad config.
@@ -30,6 +42,9 @@ class RouteTracker {
   /// Takes the point's next position; returns its progress.
   double Update(const Eigen::Vector2d& p);
   double progress_m() const { return progress_m_; }
+  /// Raises the progress to at least `progress_m` (a caller that knows better, e.g. from the goal
+  /// it drives to).
+  void Advance(double progress_m) { progress_m_ = std::max(progress_m_, progress_m); }
   /// The route's point at arc length `s_m` (clamped to the route).
   Eigen::Vector2d PointAt(double s_m) const;
 

@@ -28,7 +28,9 @@ class Referee {
   /// True once a wheel's contact point has left the terrain's extent (the terrain's edge is a drop:
   /// beyond it the vehicle falls).
   bool OffTerrain() const { return off_terrain_; }
-  /// True (and the goal time kept) when the true pose is inside the goal region.
+  /// True (and the goal time kept) when the true pose is inside the goal region and the route has
+  /// been followed up to the goal's place on it (a route that ends where it started, a lap, is not
+  /// done at its start).
   bool GoalReached(double time_s, const Eigen::Isometry3d& T_W_B);
   /// The run ends at the route's end (scenarios without a goal region): that is its goal time.
   void RouteEndReached(double time_s) { goal_time_s_ = time_s; }
@@ -43,6 +45,7 @@ class Referee {
   double distance_m_ = 0.0, max_roll_deg_ = 0.0, max_pitch_deg_ = 0.0;
   planner::RouteTracker route_;  ///< progress along the route in its order, from the truth
   double best_progress_m_ = 0.0;
+  double goal_progress_m_ = 0.0;  ///< the goal's place on the route (its last nearest point)
   std::size_t collision_steps_ = 0;
   std::vector<std::string> collisions_;
   std::vector<bool> region_entered_;
