@@ -70,6 +70,7 @@ RunResult RunClosedLoop(const Scenario& scenario, std::uint64_t seed, const RunO
   result.scenario = scenario.name;
   result.seed = seed;
   result.route_length_m = RouteLength(scenario.route_m);
+  result.route_m = scenario.route_m;
 
   // One seed feeds every random source.
   sim::Simulator::Config sim_config = scenario.sim;

@@ -6,7 +6,10 @@
 #include <iomanip>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 #include "format.h"
+#include "ovpc/planner/route_tracker.h"
 
 namespace ovpc::scenarios {
 namespace {
@@ -75,6 +78,100 @@ void ReadPlans(const RunResult& r, Diagnosis* d) {
   }
 }
 
+
+// The last map's points in a corridor from the vehicle towards the route ahead (or along its
+// heading): obstacles above the ground clearance, a drop below the vehicle's ground,
+// non-traversable ground, and where the seen ground ends.
+std::string ReadMapAhead(const RunResult& r) {
+  if (r.trajectory.empty() || r.last_map_points.empty()) return "";
+  const Eigen::Isometry3d& T_W_B = r.trajectory.back().T_W_B;
+  const Eigen::Vector2d at = T_W_B.translation().head<2>();
+  // Where the robot had to go: towards the route 6 m past its progress (the route as scored), else
+  // along its heading.
+  Eigen::Vector2d dir = T_W_B.linear().col(0).head<2>();
+  if (r.route_m.size() >= 2) {
+    const Eigen::Vector2d next = planner::RouteTracker(r.route_m).PointAt(r.route_progress_m + 6.0);
+    if ((next - at).norm() > 0.5) dir = next - at;
+  }
+  if (dir.norm() < 1e-9) return "";
+  dir.normalize();
+  const Eigen::Vector2d side(-dir.y(), dir.x());
+  const double z0 = T_W_B.translation().z();
+  // The corridor: from the rear axle to 6 m ahead, 1.5 m to either side (the vehicle and a margin).
+  constexpr double kAheadM = 6.0, kHalfWidthM = 1.5, kClearanceM = 0.35, kDropM = 0.5;
+  double obstacle_at = kAheadM + 1, obstacle_h = 0.0, drop_at = kAheadM + 1, drop_h = 0.0, rough_at = kAheadM + 1;
+  double seen_to = 0.0;
+  std::size_t ground = 0, non_traversable_ground = 0;
+  for (const MapPoint& p : r.last_map_points) {
+    const Eigen::Vector2d d = p.position_W.head<2>() - at;
+    const double along = d.dot(dir), across = d.dot(side), h = p.position_W.z() - z0;
+    if (along < 0.0 || along > kAheadM || std::abs(across) > kHalfWidthM) continue;
+    if (h > kClearanceM && !p.traversable) {
+      if (along < obstacle_at) obstacle_at = along, obstacle_h = h;
+    } else if (h < -kDropM && along < drop_at) {
+      drop_at = along, drop_h = -h;
+    } else if (std::abs(h) <= kClearanceM) {
+      ++ground;
+      if (p.traversable) seen_to = std::max(seen_to, along);
+      else if (along < rough_at) rough_at = along, ++non_traversable_ground;
+      else ++non_traversable_ground;
+    }
+  }
+  // The obstacle's height: its highest point within half a metre behind its nearest.
+  for (const MapPoint& p : r.last_map_points) {
+    const Eigen::Vector2d d = p.position_W.head<2>() - at;
+    const double along = d.dot(dir), h = p.position_W.z() - z0;
+    if (!p.traversable && h > kClearanceM && std::abs(d.dot(side)) <= kHalfWidthM && along >= obstacle_at &&
+        along <= obstacle_at + 0.5) {
+      obstacle_h = std::max(obstacle_h, h);
+    }
+  }
+  std::vector<std::string> parts;
+  if (obstacle_at <= kAheadM) parts.push_back("an obstacle " + Fixed(obstacle_h, 1) + " m high " + Fixed(obstacle_at, 1) + " m ahead");
+  if (drop_at <= kAheadM) parts.push_back("ground " + Fixed(drop_h, 1) + " m lower " + Fixed(drop_at, 1) + " m ahead");
+  if (non_traversable_ground > 0 && 4 * non_traversable_ground >= ground) {
+    parts.push_back("non-traversable ground from " + Fixed(rough_at, 1) + " m ahead (" +
+                    std::to_string(non_traversable_ground) + " of " + std::to_string(ground) + " ground points)");
+  }
+  if (seen_to < kAheadM - 1.0) parts.push_back("seen traversable ground ends " + Fixed(seen_to, 1) + " m ahead (unseen beyond)");
+  std::string out;
+  for (const std::string& part : parts) out += (out.empty() ? "" : ", ") + part;
+  return out;
+}
+
+// The planner in the run's last 30 s: local goals tried, plans found, paths blocked and by what.
+std::string ReadPlannerLately(const RunResult& r) {
+  if (r.plan_log.empty() || r.trajectory.empty()) return "";
+  const double from_s = r.trajectory.back().time_s - kWindowS;
+  std::size_t calls = 0, found = 0, blocked = 0, no_goal = 0;
+  std::map<std::string, std::size_t> blocked_by;
+  double nearest_goal = 1e9, farthest_goal = 0.0;
+  for (const PlanRecord& record : r.plan_log) {
+    const navigation::PlanAttempt& p = record.attempt;
+    if (p.time_s < from_s) continue;
+    ++calls;
+    if (p.outcome == "found" || p.outcome == "kept current") ++found;
+    if (!p.has_goal) ++no_goal;
+    if (!p.blocked_by.empty()) ++blocked, ++blocked_by[p.blocked_by];
+    if (p.has_goal) {
+      const double d = (record.GoalW().head<2>() - record.VehicleW().head<2>()).norm();
+      nearest_goal = std::min(nearest_goal, d);
+      farthest_goal = std::max(farthest_goal, d);
+    }
+  }
+  if (calls == 0) return "";
+  std::ostringstream s;
+  s << calls << " plans in the last 30 s, " << found << " found";
+  if (calls > no_goal) s << ", goals " << Fixed(nearest_goal, 1) << "-" << Fixed(farthest_goal, 1) << " m away";
+  if (no_goal > 0) s << ", " << no_goal << " without a local goal";
+  if (blocked > 0) {
+    const auto most = std::max_element(blocked_by.begin(), blocked_by.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    s << ", " << blocked << " paths blocked (mostly " << most->first << ")";
+  }
+  return s.str();
+}
+
 }  // namespace
 
 Diagnosis Diagnose(const RunResult& r) {
@@ -108,6 +205,12 @@ Diagnosis Diagnose(const RunResult& r) {
   s << "; last plan found " << (d.last_plan_found_s ? "at t=" + Fixed(*d.last_plan_found_s, 1) + " s" : std::string("never"));
   if (!d.commonest_failure.empty()) s << "; commonest failed plan: " << d.commonest_failure;
   if (!d.commonest_rejection.empty()) s << "; planner mostly rejected: " << d.commonest_rejection;
+  if (!arrived && !d.verdict.empty()) {
+    d.map_ahead = ReadMapAhead(r);
+    d.planner_lately = ReadPlannerLately(r);
+    if (!d.map_ahead.empty()) s << "; the map there: " << d.map_ahead;
+    if (!d.planner_lately.empty()) s << "; the planner there: " << d.planner_lately;
+  }
   d.summary = s.str();
   return d;
 }

@@ -139,12 +139,16 @@ void ReadRules(const YAML::Node& root, const std::set<std::string>& defined, con
   const YAML::Node criteria = root["criteria"];
   const YAML::Node regions = criteria && criteria.IsMap() ? criteria["forbidden"] : YAML::Node();
   const bool body_forbidden = regions && regions.IsSequence() && regions.size() > 0;
+  // A refuse draw is judged on collisions and forbidden regions: one of them must be asked for.
+  const YAML::Node no_collision = criteria && criteria.IsMap() ? criteria["no_collision"] : YAML::Node();
+  const bool collisions_judged = no_collision && no_collision.IsScalar() && no_collision.Scalar() == "true";
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string ctx = "expect[" + std::to_string(i) + "]";
     f->rules.push_back(ReadRule(list[i], ctx, defined, file));
-    if (f->rules.back().then == Expectation::kRefuse && f->rules.back().forbidden == 0 && !body_forbidden) {
-      Fail(file, list[i], "'" + ctx + "': a refuse rule needs forbidden regions (the goal is not required, they are what is): "
-                          "give the rule 'forbidden: [{name, min_m: [x, y], max_m: [x, y]}]' or the family 'criteria.forbidden'");
+    if (f->rules.back().then == Expectation::kRefuse && f->rules.back().forbidden == 0 && !body_forbidden && !collisions_judged) {
+      Fail(file, list[i], "'" + ctx + "': a refuse rule needs something to hold (the goal is not required): "
+                          "give the rule 'forbidden: [{name, min_m: [x, y], max_m: [x, y]}]', the family 'criteria.forbidden' "
+                          "or 'criteria.no_collision: true'");
     }
   }
 }

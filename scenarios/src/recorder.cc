@@ -143,6 +143,12 @@ void Recorder::MapCycle(double time_s, const Eigen::Isometry3d& T_W_O, const nav
     return !view.traversable || i >= view.traversable->size() || (*view.traversable)[i] != 0;
   };
   map_points_.Add(pts, T_W_L, traversable, &result_->map_points);
+  // What the robot saw around it (the map frame's origin is the sensor, near the vehicle).
+  result_->last_map_points.clear();
+  const double r2 = RunResult::kLastMapRadiusM * RunResult::kLastMapRadiusM;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (pts[i].head<2>().squaredNorm() <= r2) result_->last_map_points.push_back({T_W_L * pts[i], traversable(i)});
+  }
   if (renderer_) {
     frame_points_L_ = pts;
     frame_traversable_.resize(pts.size());

@@ -68,7 +68,9 @@ nlohmann::json DiagnosisJson(const Diagnosis& d) {
                       {"reversals_last_30s", d.reversals_last_30s},
                       {"moved_last_30s_m", d.moved_last_30s_m},
                       {"commonest_rejection", d.commonest_rejection},
-                      {"commonest_failure", d.commonest_failure}};
+                      {"commonest_failure", d.commonest_failure},
+                      {"map_ahead", d.map_ahead},
+                      {"planner_lately", d.planner_lately}};
   j["last_plan_found_s"] = d.last_plan_found_s ? nlohmann::json(*d.last_plan_found_s) : nlohmann::json(nullptr);
   return j;
 }

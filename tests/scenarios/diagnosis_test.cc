@@ -83,5 +83,38 @@ TEST(DiagnosisTest, ArrivalsAreArrivedOrLate) {
   EXPECT_EQ(Diagnose(r).verdict, "") << "a failure of another criterion is not an arrival question";
 }
 
+// The stalled run of MadeUpRun stands at (20, 0) on a route along +x; the last map around it holds
+// flat traversable ground from x = 18 up to `ground_to_x`, and whatever `add` puts in.
+template <class Add>
+Diagnosis DiagnoseWithMap(double ground_to_x, Add add) {
+  RunResult r = MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; });
+  r.route_m = {{0.0, 0.0}, {60.0, 0.0}};
+  r.route_progress_m = 20.0;
+  for (double x = 18.0; x <= ground_to_x + 1e-9; x += 0.25) {
+    for (double y = -2.0; y <= 2.0; y += 0.25) r.last_map_points.push_back({Vec3(x, y, 0.0), true});
+  }
+  add(&r.last_map_points);
+  return Diagnose(r);
+}
+
+TEST(DiagnosisTest, SaysWhatTheMapHeldAheadWhereTheRunEnded) {
+  // Seen ground that ends 3 m ahead of the vehicle: a crest, an edge or a shadow.
+  const Diagnosis crest = DiagnoseWithMap(23.0, [](std::vector<MapPoint>*) {});
+  EXPECT_NE(crest.map_ahead.find("seen traversable ground ends 3.0 m ahead"), std::string::npos) << crest.map_ahead;
+  EXPECT_NE(crest.summary.find("the map there: "), std::string::npos) << crest.summary;
+  // A wall 1.5 m high 2 m ahead.
+  const Diagnosis wall = DiagnoseWithMap(30.0, [](std::vector<MapPoint>* m) {
+    for (double z = 0.5; z <= 1.5; z += 0.25) m->push_back({Vec3(22.0, 0.0, z), false});
+  });
+  EXPECT_NE(wall.map_ahead.find("an obstacle 1.5 m high 2.0 m ahead"), std::string::npos) << wall.map_ahead;
+  // Ground 1.2 m lower from 4 m ahead (a drop), beyond seen ground.
+  const Diagnosis drop = DiagnoseWithMap(30.0, [](std::vector<MapPoint>* m) { m->push_back({Vec3(24.0, 0.5, -1.2), true}); });
+  EXPECT_NE(drop.map_ahead.find("ground 1.2 m lower 4.0 m ahead"), std::string::npos) << drop.map_ahead;
+  // Open, seen, traversable ground all the way: nothing stands out.
+  EXPECT_EQ(DiagnoseWithMap(30.0, [](std::vector<MapPoint>*) {}).map_ahead, "");
+  // The planner's last 30 s: the made-up run's failed attempt at t = 30 s lies in them.
+  EXPECT_NE(crest.planner_lately.find("plans in the last 30 s"), std::string::npos) << crest.planner_lately;
+}
+
 }  // namespace
 }  // namespace ovpc::scenarios

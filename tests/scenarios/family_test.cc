@@ -378,7 +378,11 @@ TEST_F(FamilyTest, MalformedFamiliesNameFileLineAndProblem) {
   EXPECT_TRUE(starts(e, "fam.yaml:15: draw ")) << e;
   EXPECT_NE(e.find("matches no rule of 'expect'"), std::string::npos) << e;
   e = FamilyErrorOf(Replaced(kFamily, "    forbidden: [{name: under, min_m: [8, -2], max_m: [12, 2]}]\n", ""));
-  EXPECT_TRUE(starts(e, "fam.yaml:16: 'expect[1]': a refuse rule needs forbidden regions")) << e;
+  EXPECT_TRUE(starts(e, "fam.yaml:16: 'expect[1]': a refuse rule needs something to hold")) << e;
+  // With criteria.no_collision the same rule holds something: the vehicle must not touch anything.
+  EXPECT_EQ(FamilyErrorOf(Replaced(Replaced(kFamily, "    forbidden: [{name: under, min_m: [8, -2], max_m: [12, 2]}]\n", ""),
+                                   "  goal: {x_m: 16.0, y_m: 0.0}\n", "  goal: {x_m: 16.0, y_m: 0.0}\n  no_collision: true\n")),
+            "");
   e = FamilyErrorOf(Replaced(kFamily, "route:", "navigator:\n  local_goal: {mode: reachable}\nroute:"));
   EXPECT_TRUE(starts(e, "fam.yaml:11: a family must not have a 'navigator:' section")) << e;
   e = FamilyErrorOf(Replaced(kFamily, "max_m: [12, 2]}]\n", "max_m: [12, {uniform: [1, 2]}]}]\n"));

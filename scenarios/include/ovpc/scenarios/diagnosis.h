@@ -25,6 +25,12 @@ struct Diagnosis {
   /// and the commonest planner outcome other than "found".
   std::string commonest_rejection;
   std::string commonest_failure;
+  /// What the last map held ahead of the vehicle, towards the route 6 m past its progress, where the run ended
+  /// ("an obstacle 1.2 m high 0.8 m ahead", "seen ground ends 1.5 m ahead", ...); "" if nothing
+  /// stood out or the run arrived.
+  std::string map_ahead;
+  /// What the planner did in the run's last 30 s: goals tried, paths found and blocked, and why.
+  std::string planner_lately;
 };
 
 /// Reads the run's trajectory (true speed and pose), plan log and criteria.

@@ -62,6 +62,7 @@ struct RunResult {
   double distance_m = 0.0;         ///< driven, true path length
   double route_progress_m = 0.0;   ///< farthest point reached along the route
   double route_length_m = 0.0;
+  std::vector<Eigen::Vector2d> route_m;  ///< the scenario's route (world frame), for the diagnosis
   navigation::NavigatorStats navigator;  ///< the navigator's counters and stage timings, as it kept them
   std::size_t collision_steps = 0;
   std::vector<std::string> collisions;  ///< first contacts: time, vehicle geom, world geom
@@ -69,6 +70,10 @@ struct RunResult {
   std::vector<PlanRecord> plan_log;
   std::vector<navigation::CycleRecord> cycles;  ///< the navigator's map-and-plan cycles
   std::vector<MapPoint> map_points;     ///< the maps' points over the run (subsampled), world frame
+  /// The last map's points within kLastMapRadiusM of the vehicle, world frame: what the robot saw
+  /// where the run ended (the diagnosis reads it).
+  std::vector<MapPoint> last_map_points;
+  static constexpr double kLastMapRadiusM = 10.0;
   std::vector<std::string> files;       ///< files written (mesh snapshots, frames)
   StageStats physics_lidar;
   std::string map_backend;  ///< the map backend's name ("ovpc", "octomap", "elevation", a plug-in's)
