@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -75,7 +76,59 @@ void ReadPlans(const RunResult& r, Diagnosis* d) {
   }
 }
 
+// Stretches of standing of at least kStalledS.
+void FindStalls(const std::vector<TrajectorySample>& t, std::vector<Spell>* spells) {
+  for (std::size_t i = 0; i < t.size();) {
+    if (std::abs(t[i].speed_mps) >= kStandingMps) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < t.size() && std::abs(t[j].speed_mps) < kStandingMps) ++j;
+    const double end_s = j < t.size() ? t[j].time_s : t.back().time_s;
+    if (end_s - t[i].time_s >= kStalledS) {
+      spells->push_back({"stall", t[i].time_s, end_s, t[i].T_W_B.translation().head<2>()});
+    }
+    i = j;
+  }
+}
+
+// Direction reversals as ReadMotion counts them; each four within kWindowS whose first and last lie
+// within kRockingMaxMoveM of each other are rocking, overlapping stretches merged.
+void FindRocking(const std::vector<TrajectorySample>& t, std::vector<Spell>* spells) {
+  std::vector<std::size_t> reversals;
+  int direction = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (std::abs(t[i].speed_mps) < kMovingMps) continue;
+    const int s = t[i].speed_mps > 0 ? 1 : -1;
+    if (direction != 0 && s != direction) reversals.push_back(i);
+    direction = s;
+  }
+  const auto at = [&](std::size_t k) -> Eigen::Vector2d { return t[reversals[k]].T_W_B.translation().head<2>(); };
+  const std::size_t first = spells->size();
+  for (std::size_t k = 0; k + kRockingReversals - 1 < reversals.size(); ++k) {
+    const std::size_t last = k + kRockingReversals - 1;
+    const double start_s = t[reversals[k]].time_s, end_s = t[reversals[last]].time_s;
+    if (end_s - start_s > kWindowS || !((at(last) - at(k)).norm() < kRockingMaxMoveM)) continue;
+    if (spells->size() > first && start_s <= spells->back().end_s) {
+      spells->back().end_s = std::max(spells->back().end_s, end_s);
+    } else {
+      spells->push_back({"rocking", start_s, end_s, at(k)});
+    }
+  }
+}
+
 }  // namespace
+
+std::vector<Spell> FindSpells(const RunResult& r) {
+  std::vector<Spell> stalls, rocking;
+  FindStalls(r.trajectory, &stalls);
+  FindRocking(r.trajectory, &rocking);
+  std::vector<Spell> spells;
+  std::merge(stalls.begin(), stalls.end(), rocking.begin(), rocking.end(), std::back_inserter(spells),
+             [](const Spell& a, const Spell& b) { return a.start_s < b.start_s; });
+  return spells;
+}
 
 Diagnosis Diagnose(const RunResult& r) {
   Diagnosis d;
