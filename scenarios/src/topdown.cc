@@ -310,14 +310,17 @@ void DrawSpells(Raster& canvas, const TopdownView& v, const std::vector<Spell>& 
   }
 }
 
-// Grid, frame, ticks and tick labels, the axes' names.
+// Faint lines at the ticks, drawn over the terrain and under everything else.
+void DrawGrid(Raster& canvas, const TopdownFigure& f) {
+  const TopdownView& v = f.view;
+  for (const AxisTick& t : f.x_ticks) canvas.Fill({t.pixel, v.top_px, 1, v.height_px}, kInk, 0.12);
+  for (const AxisTick& t : f.y_ticks) canvas.Fill({v.left_px, t.pixel, v.width_px, 1}, kInk, 0.12);
+}
+
+// Frame, ticks and tick labels, the axes' names (the grid is under the plot's marks: DrawGrid).
 void DrawAxes(Raster& canvas, const TopdownFigure& f) {
   const TopdownView& v = f.view;
   const int bottom = v.top_px + v.height_px;
-  canvas.Clip(PlotBox(v));
-  for (const AxisTick& t : f.x_ticks) canvas.Fill({t.pixel, v.top_px, 1, v.height_px}, kInk, 0.12);
-  for (const AxisTick& t : f.y_ticks) canvas.Fill({v.left_px, t.pixel, v.width_px, 1}, kInk, 0.12);
-  canvas.Unclip();
   canvas.Frame({v.left_px - 1, v.top_px - 1, v.width_px + 2, v.height_px + 2}, kInk);
   for (const AxisTick& t : f.x_ticks) {
     canvas.Fill({t.pixel, bottom + 1, 1, kTick}, kInk);
@@ -393,7 +396,10 @@ void DrawSample(Raster& canvas, const PixelBox& b, const LegendLine& line) {
       canvas.Disc(mid, b.height / 2.0 + 1, line.colour, 0.3);
       canvas.Disc(mid, b.height / 2.0 + 1, line.colour, 1.0, b.height / 2.0 - 1);
       break;
-    case Sample::kArea: canvas.Fill(b, line.colour, line.colour == kRoof ? 0.45 : 0.9); break;
+    case Sample::kArea:
+      canvas.Fill(b, line.colour, line.colour == kRoof ? 0.45 : 0.9);
+      canvas.Frame(b, line.colour);
+      break;
     case Sample::kDots:
       for (int y = b.y + 1; y < b.y + b.height; y += 3)
         for (int x = b.x + 1 + (y % 2); x < b.x + b.width; x += 3) canvas.Fill({x, y, 2, 2}, line.colour);
@@ -483,6 +489,7 @@ TopdownFigure DrawTopdown(const Scenario& scenario, const RunResult& r) {
   canvas.Clip(PlotBox(v));
   const sim::Heightfield terrain = sim::MakeHeightfield(scenario.sim.world.terrain);
   DrawTerrain(canvas, v, terrain);
+  DrawGrid(canvas, f);
   DrawObjects(canvas, v, scenario, terrain);
   DrawForbidden(canvas, v, scenario.criteria.forbidden);
   DrawRun(canvas, v, scenario, r);
