@@ -93,8 +93,10 @@ void FindStalls(const std::vector<TrajectorySample>& t, std::vector<Spell>* spel
   }
 }
 
-// Direction reversals as ReadMotion counts them; each four within kWindowS whose first and last lie
-// within kRockingMaxMoveM of each other are rocking, overlapping stretches merged.
+// Direction reversals as ReadMotion counts them. The verdict's rule from each reversal on: at least
+// kRockingReversals of them within the next kWindowS (or to the run's end), and the window's end
+// less than kRockingMaxMoveM from its start; overlapping stretches are one spell, ending at its
+// last reversal.
 void FindRocking(const std::vector<TrajectorySample>& t, std::vector<Spell>* spells) {
   std::vector<std::size_t> reversals;
   int direction = 0;
@@ -104,16 +106,22 @@ void FindRocking(const std::vector<TrajectorySample>& t, std::vector<Spell>* spe
     if (direction != 0 && s != direction) reversals.push_back(i);
     direction = s;
   }
-  const auto at = [&](std::size_t k) -> Eigen::Vector2d { return t[reversals[k]].T_W_B.translation().head<2>(); };
+  const auto xy = [&](std::size_t i) -> Eigen::Vector2d { return t[i].T_W_B.translation().head<2>(); };
   const std::size_t first = spells->size();
   for (std::size_t k = 0; k + kRockingReversals - 1 < reversals.size(); ++k) {
-    const std::size_t last = k + kRockingReversals - 1;
-    const double start_s = t[reversals[k]].time_s, end_s = t[reversals[last]].time_s;
-    if (end_s - start_s > kWindowS || !((at(last) - at(k)).norm() < kRockingMaxMoveM)) continue;
+    const double start_s = t[reversals[k]].time_s;
+    std::size_t last = k;  // the last reversal within the window
+    while (last + 1 < reversals.size() && t[reversals[last + 1]].time_s <= start_s + kWindowS) ++last;
+    if (last + 1 < k + kRockingReversals) continue;
+    const auto window_end = std::upper_bound(t.begin() + reversals[k], t.end(), start_s + kWindowS,
+                                             [](double time, const TrajectorySample& s) { return time < s.time_s; });
+    const std::size_t end_i = static_cast<std::size_t>(window_end - t.begin()) - 1;
+    if (!((xy(end_i) - xy(reversals[k])).norm() < kRockingMaxMoveM)) continue;
+    const double end_s = t[reversals[last]].time_s;
     if (spells->size() > first && start_s <= spells->back().end_s) {
       spells->back().end_s = std::max(spells->back().end_s, end_s);
     } else {
-      spells->push_back({"rocking", start_s, end_s, at(k)});
+      spells->push_back({"rocking", start_s, end_s, xy(reversals[k])});
     }
   }
 }

@@ -114,7 +114,11 @@ TEST(DiagnosisTest, SpellsAreFoundWhereverTheyLie) {
   EXPECT_NEAR(spells[0].start_s, 2.0, 0.05);
   EXPECT_NEAR(spells[0].end_s, 60.0, 0.05);  // the last reversal, at the last sample
 
-  // Reversing every 20 m is manoeuvring, not rocking.
+  // Four quick reversals (a three-point turn) and driving on is manoeuvring, not rocking; so is
+  // reversing every 20 m.
+  EXPECT_TRUE(FindSpells(MadeUpRun(60.0, [](double t) {
+                return t < 5.0 || t >= 8.0 ? 1.0 : (static_cast<int>(t) % 2 == 1 ? -0.5 : 0.5);
+              })).empty());
   EXPECT_TRUE(FindSpells(MadeUpRun(120.0, [](double t) { return std::fmod(t, 20.0) < 10.0 ? 2.0 : -2.0; })).empty());
   EXPECT_TRUE(FindSpells(RunResult{}).empty());
 }

@@ -35,8 +35,8 @@ Diagnosis Diagnose(const RunResult& result);
 
 /// A stretch of a run that the verdict's rules call stalled or rocking, wherever in the run it lies
 /// (the verdict looks only at the end): a "stall" stood still (|true speed| < 0.05 m/s) for at least
-/// 10 s; a "rocking" spell has at least 4 direction reversals within 30 s whose first and fourth
-/// lie less than 3 m apart (overlapping ones are one spell).
+/// 10 s; a "rocking" spell has at least 4 direction reversals within 30 s from its first, and the
+/// vehicle less than 3 m from there 30 s later (or at the run's end); overlapping ones are one spell.
 struct Spell {
   std::string kind;     ///< "stall" or "rocking"
   double start_s = 0.0;
