@@ -90,8 +90,8 @@ class Raster {
       if (!p.allFinite()) return;
       x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x()), y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
     }
-    for (int y = ToInt(y0); y <= ToInt(y1); ++y) {
-      for (int x = ToInt(x0); x <= ToInt(x1); ++x) {
+    for (int y = std::max(clip_.y, ToInt(y0)); y <= std::min(clip_.y + clip_.height - 1, ToInt(y1)); ++y) {
+      for (int x = std::max(clip_.x, ToInt(x0)); x <= std::min(clip_.x + clip_.width - 1, ToInt(x1)); ++x) {
         const Px q(x + 0.5, y + 0.5);
         bool pos = false, neg = false;
         for (std::size_t i = 0; i < corners.size(); ++i) {
@@ -168,11 +168,13 @@ PixelBox WorldBox(const TopdownView& v, const Eigen::Vector2d& lo, const Eigen::
   return {x0, y0, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1)};
 }
 
-// The world rectangle shown: start, route, path and goal with a 10 m margin (finite values only).
+// The world rectangle shown: start, route, path and goal with a 10 m margin. Values that are not
+// finite or lie farther than kFarM are left out (a diverged simulation must not size the picture).
 std::pair<Eigen::Vector2d, Eigen::Vector2d> Extent(const Scenario& scenario, const RunResult& r) {
+  constexpr double kFarM = 1e7;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(HUGE_VAL), hi = -lo;
   auto grow = [&](const Eigen::Vector2d& p) {
-    if (p.allFinite()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    if (p.allFinite() && p.cwiseAbs().maxCoeff() < kFarM) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   };
   grow({scenario.sim.start_x_m, scenario.sim.start_y_m});
   for (const auto& p : scenario.route_m) grow(p);

@@ -69,8 +69,8 @@ struct TopdownFigure {
 /// that gives at most 8 steps across it (1 m for a non-finite or non-positive extent).
 double TickStep(double extent_m);
 
-/// Draws the figure of `result` of `scenario`. Non-finite poses and points are left out; the plot
-/// is at most 2000 pixels on a side whatever the extent.
+/// Draws the figure of `result` of `scenario`. Non-finite poses and points are left out, and the
+/// extent ignores places farther than 10,000 km; the plot is at most 2000 pixels on a side.
 TopdownFigure DrawTopdown(const Scenario& scenario, const RunResult& result);
 
 }  // namespace ovpc::scenarios
