@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <iomanip>
 #include <map>
 #include <sstream>
-#include <string>
 #include <vector>
+#include <string>
 #include "format.h"
 #include "ovpc/planner/route_tracker.h"
 
@@ -77,7 +78,6 @@ void ReadPlans(const RunResult& r, Diagnosis* d) {
     if (n > best) best = n, d->commonest_failure = outcome;
   }
 }
-
 
 // The last map's points in a corridor from the vehicle towards the route ahead (or along its
 // heading): obstacles above the ground clearance, a drop below the vehicle's ground,
@@ -172,7 +172,68 @@ std::string ReadPlannerLately(const RunResult& r) {
   return s.str();
 }
 
+
+// Stretches of standing of at least kStalledS.
+void FindStalls(const std::vector<TrajectorySample>& t, std::vector<Spell>* spells) {
+  for (std::size_t i = 0; i < t.size();) {
+    if (std::abs(t[i].speed_mps) >= kStandingMps) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < t.size() && std::abs(t[j].speed_mps) < kStandingMps) ++j;
+    const double end_s = j < t.size() ? t[j].time_s : t.back().time_s;
+    if (end_s - t[i].time_s >= kStalledS) {
+      spells->push_back({"stall", t[i].time_s, end_s, t[i].T_W_B.translation().head<2>()});
+    }
+    i = j;
+  }
+}
+
+// Direction reversals as ReadMotion counts them. The verdict's rule from each reversal on: at least
+// kRockingReversals of them within the next kWindowS (or to the run's end), and the window's end
+// less than kRockingMaxMoveM from its start; overlapping stretches are one spell, ending at its
+// last reversal.
+void FindRocking(const std::vector<TrajectorySample>& t, std::vector<Spell>* spells) {
+  std::vector<std::size_t> reversals;
+  int direction = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (std::abs(t[i].speed_mps) < kMovingMps) continue;
+    const int s = t[i].speed_mps > 0 ? 1 : -1;
+    if (direction != 0 && s != direction) reversals.push_back(i);
+    direction = s;
+  }
+  const auto xy = [&](std::size_t i) -> Eigen::Vector2d { return t[i].T_W_B.translation().head<2>(); };
+  const std::size_t first = spells->size();
+  for (std::size_t k = 0; k + kRockingReversals - 1 < reversals.size(); ++k) {
+    const double start_s = t[reversals[k]].time_s;
+    std::size_t last = k;  // the last reversal within the window
+    while (last + 1 < reversals.size() && t[reversals[last + 1]].time_s <= start_s + kWindowS) ++last;
+    if (last + 1 < k + kRockingReversals) continue;
+    const auto window_end = std::upper_bound(t.begin() + reversals[k], t.end(), start_s + kWindowS,
+                                             [](double time, const TrajectorySample& s) { return time < s.time_s; });
+    const std::size_t end_i = static_cast<std::size_t>(window_end - t.begin()) - 1;
+    if (!((xy(end_i) - xy(reversals[k])).norm() < kRockingMaxMoveM)) continue;
+    const double end_s = t[reversals[last]].time_s;
+    if (spells->size() > first && start_s <= spells->back().end_s) {
+      spells->back().end_s = std::max(spells->back().end_s, end_s);
+    } else {
+      spells->push_back({"rocking", start_s, end_s, xy(reversals[k])});
+    }
+  }
+}
+
 }  // namespace
+
+std::vector<Spell> FindSpells(const RunResult& r) {
+  std::vector<Spell> stalls, rocking;
+  FindStalls(r.trajectory, &stalls);
+  FindRocking(r.trajectory, &rocking);
+  std::vector<Spell> spells;
+  std::merge(stalls.begin(), stalls.end(), rocking.begin(), rocking.end(), std::back_inserter(spells),
+             [](const Spell& a, const Spell& b) { return a.start_s < b.start_s; });
+  return spells;
+}
 
 Diagnosis Diagnose(const RunResult& r) {
   Diagnosis d;

@@ -11,9 +11,6 @@
 
 #include "config_yaml.h"
 #include "ovpc/scenarios/diagnosis.h"
-#include "ovpc/sim/image.h"
-#include "ovpc/sim/terrain.h"
-#include "ovpc/sim/world.h"
 
 namespace ovpc::scenarios {
 namespace {
@@ -24,40 +21,6 @@ nlohmann::json StageJson(const StageStats& s) {
 }
 
 double Yaw(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
-
-// A small raster canvas in world coordinates.
-class Canvas {
- public:
-  Canvas(double x0, double y0, double x1, double y1, double px_per_m)
-      : x0_(x0), y1_(y1), scale_(px_per_m) {
-    image_.width = std::max(1, static_cast<int>(std::ceil((x1 - x0) * px_per_m)));
-    image_.height = std::max(1, static_cast<int>(std::ceil((y1 - y0) * px_per_m)));
-    image_.rgb.assign(static_cast<std::size_t>(image_.width) * image_.height * 3, 255);
-  }
-  int width() const { return image_.width; }
-  int height() const { return image_.height; }
-  Eigen::Vector2d World(int px, int py) const { return {x0_ + (px + 0.5) / scale_, y1_ - (py + 0.5) / scale_}; }
-  void Set(int px, int py, const std::array<int, 3>& c, double alpha = 1.0) {
-    if (px < 0 || py < 0 || px >= image_.width || py >= image_.height) return;
-    std::uint8_t* p = image_.rgb.data() + 3 * (static_cast<std::size_t>(py) * image_.width + px);
-    for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::lround(p[k] * (1 - alpha) + c[k] * alpha));
-  }
-  void Dot(const Eigen::Vector2d& w, int radius, const std::array<int, 3>& c, double alpha = 1.0) {
-    const int cx = static_cast<int>((w.x() - x0_) * scale_), cy = static_cast<int>((y1_ - w.y()) * scale_);
-    for (int dy = -radius; dy <= radius; ++dy)
-      for (int dx = -radius; dx <= radius; ++dx)
-        if (dx * dx + dy * dy <= radius * radius) Set(cx + dx, cy + dy, c, alpha);
-  }
-  void Line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, int radius, const std::array<int, 3>& c) {
-    const int steps = std::max(1, static_cast<int>((b - a).norm() * scale_ * 2));
-    for (int i = 0; i <= steps; ++i) Dot(a + (b - a) * (double(i) / steps), radius, c);
-  }
-  const sim::Image& image() const { return image_; }
-
- private:
-  double x0_, y1_, scale_;
-  sim::Image image_;
-};
 
 nlohmann::json DiagnosisJson(const Diagnosis& d) {
   nlohmann::json j = {{"verdict", d.verdict},
@@ -219,74 +182,6 @@ void WritePlansCsv(const RunResult& r, const std::string& path) {
     out << "\n";
   }
   CloseChecked(out, path);
-}
-
-void WriteTopdownPng(const Scenario& scenario, const RunResult& r, const std::string& path) {
-  // Extent: route, start, trajectory and goal, with a margin, inside the terrain.
-  Eigen::Vector2d lo(scenario.sim.start_x_m, scenario.sim.start_y_m), hi = lo;
-  auto grow = [&](const Eigen::Vector2d& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); };
-  for (const auto& p : scenario.route_m) grow(p);
-  for (const auto& s : r.trajectory) grow(s.T_W_B.translation().head<2>());
-  if (scenario.criteria.goal_m) grow(*scenario.criteria.goal_m);
-  lo -= Eigen::Vector2d(10, 10);
-  hi += Eigen::Vector2d(10, 10);
-  const double px_per_m = std::clamp(1000.0 / std::max(hi.x() - lo.x(), hi.y() - lo.y()), 2.0, 20.0);
-  Canvas canvas(lo.x(), lo.y(), hi.x(), hi.y(), px_per_m);
-
-  // Terrain: grey by height with hill shading.
-  const sim::Heightfield terrain = sim::MakeHeightfield(scenario.sim.world.terrain);
-  const double zmin = terrain.min_height_m(), zspan = std::max(1e-6, terrain.max_height_m() - zmin);
-  const Vec3 light = Vec3(-1, 1, 2).normalized();
-  for (int py = 0; py < canvas.height(); ++py) {
-    for (int px = 0; px < canvas.width(); ++px) {
-      const Eigen::Vector2d w = canvas.World(px, py);
-      const double h = (terrain.HeightAt(w.x(), w.y()) - zmin) / zspan;
-      const double shade = std::clamp(terrain.NormalAt(w.x(), w.y()).dot(light), 0.0, 1.0);
-      const int g = static_cast<int>(150 + 60 * h + 45 * (shade - 0.8));
-      canvas.Set(px, py, {g, g, std::min(255, g + 10)});
-    }
-  }
-  // Objects: footprints of every solid (dark), roofs lighter.
-  for (const sim::Solid& s : sim::ResolveSolids(scenario.sim.world, terrain)) {
-    const bool elevated = s.T_W_X.translation().z() - terrain.HeightAt(s.T_W_X.translation().x(), s.T_W_X.translation().y()) -
-                              s.half_extents.z() > 1.0;
-    const std::array<int, 3> colour = elevated ? std::array<int, 3>{120, 90, 170} : std::array<int, 3>{70, 60, 50};
-    const double reach = s.half_extents.head<2>().norm();
-    const Eigen::Isometry3d T_X_W = s.T_W_X.inverse();
-    const Vec3 c = s.T_W_X.translation();
-    // Only the part on the picture: the loops scale with the image, not with the object.
-    for (double y = std::max(c.y() - reach, lo.y()); y <= std::min(c.y() + reach, hi.y()); y += 0.5 / px_per_m) {
-      for (double x = std::max(c.x() - reach, lo.x()); x <= std::min(c.x() + reach, hi.x()); x += 0.5 / px_per_m) {
-        const Vec3 p = T_X_W * Vec3(x, y, c.z());
-        bool inside;
-        if (s.shape == sim::Solid::Shape::kBox) {
-          inside = std::abs(p.x()) <= s.half_extents.x() && std::abs(p.y()) <= s.half_extents.y();
-        } else {
-          inside = (p.x() * p.x()) / (s.half_extents.x() * s.half_extents.x()) +
-                       (p.y() * p.y()) / (s.half_extents.y() * s.half_extents.y()) <= 1.0;
-        }
-        if (inside) canvas.Dot({x, y}, 0, colour, elevated ? 0.45 : 0.9);
-      }
-    }
-  }
-  for (const Region& region : scenario.criteria.forbidden) {
-    for (double y = std::max(region.min_m.y(), lo.y()); y <= std::min(region.max_m.y(), hi.y()); y += 0.5 / px_per_m)
-      for (double x = std::max(region.min_m.x(), lo.x()); x <= std::min(region.max_m.x(), hi.x()); x += 0.5 / px_per_m)
-        canvas.Dot({x, y}, 0, {230, 120, 0}, 0.25);
-  }
-  // The robot's maps: traversable green, not traversable red.
-  for (const MapPoint& p : r.map_points) {
-    canvas.Dot(p.position_W.head<2>(), 0, p.traversable ? std::array<int, 3>{30, 170, 60} : std::array<int, 3>{210, 40, 40}, 0.35);
-  }
-  for (std::size_t i = 0; i + 1 < scenario.route_m.size(); ++i) canvas.Line(scenario.route_m[i], scenario.route_m[i + 1], 0, {40, 80, 220});
-  for (std::size_t i = 0; i + 1 < r.trajectory.size(); ++i) {
-    canvas.Line(r.trajectory[i].T_W_B.translation().head<2>(), r.trajectory[i + 1].T_W_B.translation().head<2>(), 1, {0, 0, 0});
-  }
-  canvas.Dot({scenario.sim.start_x_m, scenario.sim.start_y_m}, 4, {40, 80, 220});
-  if (scenario.criteria.goal_m) {
-    canvas.Dot(*scenario.criteria.goal_m, static_cast<int>(scenario.criteria.goal_radius_m * px_per_m), {250, 200, 0}, 0.4);
-  }
-  sim::WritePng(canvas.image(), path);
 }
 
 }  // namespace ovpc::scenarios

@@ -118,3 +118,43 @@ TEST(DiagnosisTest, SaysWhatTheMapHeldAheadWhereTheRunEnded) {
 
 }  // namespace
 }  // namespace ovpc::scenarios
+
+namespace ovpc::scenarios {
+namespace {
+
+TEST(DiagnosisTest, SpellsAreFoundWhereverTheyLie) {
+  // Stood from 20 s to the end: one stall, the verdict's.
+  const RunResult stood = MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; });
+  std::vector<Spell> spells = FindSpells(stood);
+  ASSERT_EQ(spells.size(), 1u);
+  EXPECT_EQ(spells[0].kind, "stall");
+  EXPECT_NEAR(spells[0].start_s, 20.0, 0.05);
+  EXPECT_EQ(spells[0].end_s, 60.0);
+  EXPECT_NEAR(spells[0].at_m.x(), 20.0, 0.15);
+  EXPECT_NEAR(spells[0].end_s - spells[0].start_s, Diagnose(stood).still_at_end_s, 0.15);
+
+  // Stood 12 s in the middle, then drove on and arrived: a stall all the same; 9 s is none.
+  spells = FindSpells(MadeUpRun(60.0, [](double t) { return t >= 10.0 && t < 22.0 ? 0.0 : 1.0; }));
+  ASSERT_EQ(spells.size(), 1u);
+  EXPECT_NEAR(spells[0].start_s, 10.0, 0.05);
+  EXPECT_NEAR(spells[0].end_s, 22.0, 0.05);
+  EXPECT_TRUE(FindSpells(MadeUpRun(60.0, [](double t) { return t >= 10.0 && t < 19.0 ? 0.0 : 1.0; })).empty());
+
+  // Rocking from the start to the end: one spell from the first reversal.
+  spells = FindSpells(MadeUpRun(60.0, [](double t) { return std::fmod(t, 4.0) < 2.0 ? 0.4 : -0.4; }));
+  ASSERT_EQ(spells.size(), 1u);
+  EXPECT_EQ(spells[0].kind, "rocking");
+  EXPECT_NEAR(spells[0].start_s, 2.0, 0.05);
+  EXPECT_NEAR(spells[0].end_s, 60.0, 0.05);  // the last reversal, at the last sample
+
+  // Four quick reversals (a three-point turn) and driving on is manoeuvring, not rocking; so is
+  // reversing every 20 m.
+  EXPECT_TRUE(FindSpells(MadeUpRun(60.0, [](double t) {
+                return t < 5.0 || t >= 8.0 ? 1.0 : (static_cast<int>(t) % 2 == 1 ? -0.5 : 0.5);
+              })).empty());
+  EXPECT_TRUE(FindSpells(MadeUpRun(120.0, [](double t) { return std::fmod(t, 20.0) < 10.0 ? 2.0 : -2.0; })).empty());
+  EXPECT_TRUE(FindSpells(RunResult{}).empty());
+}
+
+}  // namespace
+}  // namespace ovpc::scenarios

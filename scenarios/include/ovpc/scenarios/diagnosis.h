@@ -5,6 +5,9 @@
 
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "ovpc/scenarios/run_result.h"
 
@@ -35,5 +38,20 @@ struct Diagnosis {
 
 /// Reads the run's trajectory (true speed and pose), plan log and criteria.
 Diagnosis Diagnose(const RunResult& result);
+
+/// A stretch of a run that the verdict's rules call stalled or rocking, wherever in the run it lies
+/// (the verdict looks only at the end): a "stall" stood still (|true speed| < 0.05 m/s) for at least
+/// 10 s; a "rocking" spell has at least 4 direction reversals within 30 s from its first, and the
+/// vehicle less than 3 m from there 30 s later (or at the run's end); overlapping ones are one spell.
+struct Spell {
+  std::string kind;     ///< "stall" or "rocking"
+  double start_s = 0.0;
+  double end_s = 0.0;   ///< the run's end for a stall that lasted to it
+  Eigen::Vector2d at_m = Eigen::Vector2d::Zero();  ///< true position where it began, world frame
+};
+
+/// The run's stalls and rocking spells, by start time (a stall before a rocking spell that starts
+/// at the same time). Reads the true trajectory only.
+std::vector<Spell> FindSpells(const RunResult& result);
 
 }  // namespace ovpc::scenarios

@@ -25,8 +25,9 @@ void WriteCyclesCsv(const RunResult& result, const std::string& path);
 /// iterations and how many sampled states each validity check rejected.
 void WritePlansCsv(const RunResult& result, const std::string& path);
 
-/// topdown.png: terrain shading, objects, route, goal, forbidden regions, the mapped points coloured
-/// by traversability, and the driven path.
+/// topdown.png: the run's figure (topdown.h, DrawTopdown): terrain shading, objects, forbidden
+/// regions, the mapped points coloured by traversability, route, path driven, start, goal, end pose,
+/// stalls and rocking spells with their times, axes in metres, title, legend and scale bar.
 void WriteTopdownPng(const Scenario& scenario, const RunResult& result, const std::string& path);
 
 }  // namespace ovpc::scenarios
