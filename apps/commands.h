@@ -40,5 +40,6 @@ Runner RegisterRun(CLI::App& app);
 Runner RegisterSuite(CLI::App& app);
 Runner RegisterFamily(CLI::App& app);
 Runner RegisterMerge(CLI::App& app);
+Runner RegisterCompare(CLI::App& app);
 
 }  // namespace ovpc::apps

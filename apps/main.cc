@@ -15,12 +15,13 @@ int main(int argc, char** argv) {
   const Runner suite = RegisterSuite(app);
   const Runner family = RegisterFamily(app);
   const Runner merge = RegisterMerge(app);
+  const Runner compare = RegisterCompare(app);
   bool known = argc < 2 || argv[1][0] == '-';
   for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
     known = known || sub->check_name(argv[1]);
   }
   if (!known) {
-    std::cerr << "ovpc: error: unknown command '" << argv[1] << "' (expected one of: mesh, synth, run, suite, family, merge; see ovpc --help)\n";
+    std::cerr << "ovpc: error: unknown command '" << argv[1] << "' (expected one of: mesh, synth, run, suite, family, merge, compare; see ovpc --help)\n";
     return kExitBadInput;
   }
   try {
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("suite")) return suite();
     if (app.got_subcommand("family")) return family();
     if (app.got_subcommand("merge")) return merge();
+    if (app.got_subcommand("compare")) return compare();
   } catch (const BadInput& e) {
     std::cerr << "ovpc: error: " << e.what() << "\n";
     return kExitBadInput;

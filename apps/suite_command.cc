@@ -15,7 +15,9 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->footer(
       "Each run is `ovpc run` in its own process, writing to OUT/<scenario>[__<settings>]/seed_<k>; the runs with\n"
       "the longest time limits start first, and the reports keep the order of the inputs. Prints a\n"
-      "summary table, and writes OUT/junit.xml and OUT/summary.json. A malformed scenario file, a run killed or\n"
+      "summary table, and writes OUT/report.html (open it in a browser: the runs, failing first, and a page per run),\n"
+      "OUT/junit.xml (a testcase per run, for a CI system's test page), OUT/summary.md (for a CI job's summary) and\n"
+      "OUT/summary.json. A malformed scenario file, a run killed or\n"
       "crashed, or one that left no result.json is an error of that run (JUnit <error>); the others run and are\n"
       "reported. A scenario family (a file with `parameters:`) is drawn into OUT/<family>/draw_<iii>/scenario.yaml\n"
       "(--samples draws per grid point, from --family-seed), each draw run like a scenario into\n"
@@ -44,6 +46,9 @@ Runner RegisterSuite(CLI::App& app) {
   cmd->add_option("--samples", o->samples, "Families: random draws per grid point")->capture_default_str();
   cmd->add_option("--seed,--family-seed", o->family_seed, "Families: the seed the draws are made from (not the runs' seeds)")
       ->capture_default_str();
+  cmd->add_flag("--junit-absolute-paths", o->junit_absolute_paths,
+                "junit.xml's attachments ([[ATTACHMENT|path]]: topdown.png, run.mcap) as absolute paths (Jenkins), not "
+                "relative to OUT");
   auto shard = std::make_shared<std::string>();
   CLI::Option* shard_opt = cmd->add_option("--shard", *shard,
                                            "K/N: run shard K of N (1 <= K <= N) of the planned runs; merge the shards' folders "

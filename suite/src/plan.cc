@@ -115,7 +115,7 @@ void Planner::AddFile(const std::string& file) {
   } catch (const scenarios::ScenarioError& e) {
     return AddMalformed(file, e.what());
   }
-  if (Skipped(s) || !NameIsFolder(file, s.name)) return;
+  if (!NameIsFolder(file, s.name) || Skipped(s, file)) return;
   const std::map<std::string, std::string> bad = BadSweepValues(file);
   for (std::size_t k = 0; k < combos_.size(); ++k) {
     if (Refused(file, s.name, combos_[k], bad)) continue;
@@ -135,10 +135,14 @@ std::string Planner::FolderOf(const std::string& file, const std::string& name, 
   return tag;
 }
 
-bool Planner::Skipped(const scenarios::Scenario& s) const {
-  bool skip = false;
-  for (const auto& l : o_.skip_labels) skip = skip || std::count(s.labels.begin(), s.labels.end(), l) > 0;
-  return skip;
+bool Planner::Skipped(const scenarios::Scenario& s, const std::string& file) {
+  for (const auto& l : o_.skip_labels) {
+    if (std::count(s.labels.begin(), s.labels.end(), l) > 0) {
+      skipped.push_back({file, s.name, l});
+      return true;
+    }
+  }
+  return false;
 }
 
 // A name that cannot be a folder under --out is an error of its file (the loaders refuse such
@@ -256,7 +260,7 @@ void Planner::AddFamily(const std::string& file) {
       jobs.resize(first_job);
       return AddMalformed(in.files[i], e.what());
     }
-    if (Skipped(s)) continue;
+    if (Skipped(s, in.files[i])) continue;
     const std::map<std::string, std::string> bad = BadSweepValues(in.files[i]);
     const fs::path draw_dir = fs::path(in.files[i]).parent_path();
     for (std::size_t k = 0; k < combos_.size(); ++k) {

@@ -31,11 +31,12 @@ class Planner {
 
   std::vector<Job> jobs;
   std::vector<FamilyInput> families;
+  std::vector<SkippedRun> skipped;  ///< the scenarios --skip-label left out
   bool malformed = false;  ///< a malformed input (or sweep value) is among the jobs, as an error
 
  private:
   std::string FolderOf(const std::string& file, const std::string& name, std::size_t k);
-  bool Skipped(const scenarios::Scenario& s) const;
+  bool Skipped(const scenarios::Scenario& s, const std::string& file);
   bool NameIsFolder(const std::string& file, const std::string& name);
   std::map<std::string, std::string> BadSweepValues(const std::string& file) const;
   bool Refused(const std::string& file, const std::string& name, const std::vector<std::string>& combo,

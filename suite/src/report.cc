@@ -10,6 +10,8 @@
 #include "ovpc/scenarios/pass_rate.h"
 #include "ovpc/suite/output_folder.h"
 #include "ovpc/suite/report.h"
+#include "report_files.h"
+#include "report_text.h"
 #include "results.h"
 
 namespace ovpc::suite {
@@ -25,54 +27,6 @@ struct Report {
   std::string out;
 };
 
-// Text for XML: the five special characters as entities, and the control characters XML 1.0
-// cannot hold (all below 0x20 but tab, line feed and carriage return) as "\xNN".
-std::string XmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default:
-        if ((u < 0x20 && c != '\t' && c != '\n' && c != '\r') || u == 0x7f) {
-          char hex[8];
-          std::snprintf(hex, sizeof(hex), "\\x%02X", u);
-          out += hex;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
-}
-
-const scenarios::Draw& DrawOf(const std::vector<FamilyInput>& families, const Job& job) {
-  return families[job.draw->family].draws[job.draw->draw];
-}
-const std::string& DrawFile(const std::vector<FamilyInput>& families, const Job& job) {
-  return families[job.draw->family].files[job.draw->draw];
-}
-
-// The settings column: a family run's drawn values, then the sweep's settings.
-std::string RunSettings(const Report& rep, const Job& job) {
-  const std::string settings = SettingsLabel(job.settings);
-  if (!job.draw) return settings;
-  const std::string values = scenarios::DrawValuesLabel(DrawOf(rep.families, job));
-  return settings.empty() ? values : values + " " + settings;
-}
-
-std::string ExpectCell(const Report& rep, const Job& job) {
-  if (!job.draw) return "-";
-  const scenarios::Draw& d = DrawOf(rep.families, job);
-  if (d.expectation == scenarios::Expectation::kAny) return "any";
-  const Verdict v = job.draw->verdict;
-  return std::string(scenarios::ExpectationName(d.expectation)) + ": " +
-         (v == Verdict::kOk ? "ok" : v == Verdict::kViolated ? "VIOLATED" : "ERROR");
-}
-
 void PrintRuns(const Report& rep) {
   const bool families = !rep.families.empty();
   std::printf("%-22s %-5s %-9s %-34s %-6s %s%9s %9s %7s  %s\n", "scenario", "seed", "map", families ? "values, settings" : "settings",
@@ -86,9 +40,9 @@ void PrintRuns(const Report& rep) {
     const std::string verdict = r.contains("diagnosis") ? r["diagnosis"].value("verdict", std::string()) : "";
     if (!ok && !verdict.empty() && verdict != "arrived") end += " (" + verdict + ")";
     char expect[40] = "";
-    if (families) std::snprintf(expect, sizeof(expect), "%-16s ", ExpectCell(rep, job).c_str());
+    if (families) std::snprintf(expect, sizeof(expect), "%-16s ", ExpectCell(rep.families, job).c_str());
     std::printf("%-22s %-5llu %-9s %-34s %-6s %s%9.1f %9.1f %7.1f  %s\n", job.scenario.c_str(),
-                static_cast<unsigned long long>(job.seed), job.map.c_str(), RunSettings(rep, job).c_str(),
+                static_cast<unsigned long long>(job.seed), job.map.c_str(), RunSettings(rep.families, job).c_str(),
                 ok ? "pass" : job.error.empty() ? "FAIL" : "ERROR", expect, r.value("sim_time_s", 0.0),
                 r.value("distance_m", 0.0), r.value("real_time_factor", 0.0), end.c_str());
   }
@@ -197,70 +151,9 @@ void FamilyReports(const Report& rep) {
   }
 }
 
-std::string FailureText(const Job& job) {
-  const nlohmann::json& r = job.result;
-  std::string failures;
-  if (!r.contains("criteria")) return "run failed with exit code " + std::to_string(job.exit_code) + " (see " + job.out_dir + "/run.log)\n";
-  for (const auto& c : r["criteria"]) {
-    if (!c.value("passed", false)) {
-      failures += c.value("name", std::string()) + ": expected " + c.value("expected", std::string()) + ", got " +
-                  c.value("actual", std::string()) + "\n";
-    }
-  }
-  if (r.contains("diagnosis")) failures += "diagnosis: " + r["diagnosis"].value("summary", std::string()) + "\n";
-  return failures;
-}
-
-// One testcase's verdict element ("" when it passed).
-std::string CaseOutcome(const Report& rep, const Job& job) {
-  std::ostringstream x;
-  if (!job.error.empty()) {
-    x << "      <error message=\"" << XmlEscape(job.error.substr(0, job.error.find('\n'))) << "\">" << XmlEscape(job.error)
-      << "</error>\n";
-  } else if (job.draw && job.draw->verdict == Verdict::kNotCounted) {
-    x << "      <skipped message=\"" << XmlEscape("expect any: " + DrawOf(rep.families, job).reason) << "\"/>\n";
-  } else if (job.draw && job.draw->verdict == Verdict::kViolated) {
-    const std::string& file = DrawFile(rep.families, job);
-    const scenarios::Expectation e = DrawOf(rep.families, job).expectation;
-    const std::string what = e == scenarios::Expectation::kPass ? "pass" : "refuse (no collision, no forbidden region entered)";
-    x << "      <failure message=\"" << XmlEscape("expected " + what + ", violated: " + file) << "\">"
-      << XmlEscape(FailureText(job) + "re-run: ovpc run " + file + " --seed " + std::to_string(job.seed) + "\n") << "</failure>\n";
-  } else if (!job.draw && job.exit_code != 0) {
-    const std::string failures = FailureText(job);
-    x << "      <failure message=\"" << XmlEscape(failures.substr(0, failures.find('\n'))) << "\">" << XmlEscape(failures)
-      << "</failure>\n";
-  }
-  return x.str();
-}
-
-std::string CaseName(const Report& rep, const Job& job) {
-  const std::string settings = " map=" + job.map + (job.settings.empty() ? "" : " " + SettingsLabel(job.settings));
-  if (!job.draw) return "seed=" + std::to_string(job.seed) + settings;
-  const scenarios::Draw& d = DrawOf(rep.families, job);
-  return scenarios::DrawFolder(d.index) + " seed=" + std::to_string(job.seed) + " " + scenarios::DrawValuesLabel(d) + settings +
-         " (expect " + scenarios::ExpectationName(d.expectation) + ")";
-}
-
-void WriteJunit(const Report& rep, std::size_t passed) {
-  std::ostringstream cases;
-  double total_wall = 0.0;
-  std::size_t errors = 0, skipped = 0;
-  for (const Job& job : rep.jobs) {
-    const double wall = job.result.value("wall_time_s", 0.0);
-    total_wall += wall;
-    errors += !job.error.empty();
-    skipped += job.draw && job.draw->verdict == Verdict::kNotCounted;
-    const std::string classname = job.draw ? rep.families[job.draw->family].family.name : job.scenario;
-    cases << "    <testcase classname=\"" << XmlEscape(classname) << "\" name=\"" << XmlEscape(CaseName(rep, job))
-          << "\" time=\"" << wall << "\">\n"
-          << CaseOutcome(rep, job) << "    </testcase>\n";
-  }
-  std::ostringstream junit;
-  junit << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"ovpc scenarios\" tests=\""
-        << rep.jobs.size() << "\" failures=\"" << rep.jobs.size() - passed - errors << "\" errors=\"" << errors
-        << "\" skipped=\"" << skipped << "\" time=\"" << total_wall << "\">\n"
-        << cases.str() << "  </testsuite>\n</testsuites>\n";
-  WriteFile(fs::path(rep.out) / "junit.xml", junit.str());
+void WriteCiFiles(const Report& rep, const ReportOptions& options) {
+  WriteFile(fs::path(rep.out) / "junit.xml", JunitXml(rep.results, rep.out, options.junit_absolute_paths));
+  WriteFile(fs::path(rep.out) / "summary.md", SummaryMarkdown(rep.results));
 }
 
 void WriteSummary(const Report& rep, std::size_t passed) {
@@ -298,7 +191,7 @@ nlohmann::json DrawJson(const std::vector<FamilyInput>& families, const DrawRun&
           {"verdict", scenarios::VerdictName(run.verdict)}};
 }
 
-std::size_t WriteReport(const SuiteResults& results, const std::string& out) {
+std::size_t WriteReport(const SuiteResults& results, const std::string& out, const ReportOptions& options) {
   const Report rep{results, results.jobs, results.families, out};
   PrintRuns(rep);
   if (results.suite.seeds > 1) PrintSeeds(rep);
@@ -306,7 +199,8 @@ std::size_t WriteReport(const SuiteResults& results, const std::string& out) {
   fs::create_directories(rep.out);
   FamilyReports(rep);
   const std::size_t passed = std::count_if(rep.jobs.begin(), rep.jobs.end(), Passed);
-  WriteJunit(rep, passed);
+  WriteCiFiles(rep, options);
+  WriteHtmlReport(results, out);
   WriteSummary(rep, passed);
   std::size_t family_runs = 0, not_counted = 0;
   for (const Job& job : rep.jobs) {
@@ -315,7 +209,7 @@ std::size_t WriteReport(const SuiteResults& results, const std::string& out) {
   }
   std::printf("\n%zu of %zu runs passed", passed, rep.jobs.size());
   if (family_runs > 0) std::printf(" (a family run passes when its expectation holds; %zu not counted)", not_counted);
-  std::printf("; wrote %s/junit.xml and %s/summary.json\n", rep.out.c_str(), rep.out.c_str());
+  std::printf("; wrote %s/report.html, junit.xml, summary.md and summary.json\n", rep.out.c_str());
   return passed;
 }
 

@@ -164,6 +164,11 @@ SuiteResults ResultsFrom(const json& j) {
     for (const json& f : j.at("families")) r.families.push_back(FamilyFrom(f));
   }
   for (const json& run : j.at("runs")) r.jobs.push_back(JobFrom(run, r.families));
+  if (j.contains("skipped")) {
+    for (const json& s : j.at("skipped")) {
+      r.skipped.push_back({s.at("file").get<std::string>(), s.at("scenario").get<std::string>(), s.at("label").get<std::string>()});
+    }
+  }
   for (std::size_t i = 1; i < r.jobs.size(); ++i) {
     if (r.jobs[i].index <= r.jobs[i - 1].index) throw BadInput("the runs are not in the planned order");
   }
@@ -201,6 +206,11 @@ json SummaryJson(const SuiteResults& r, std::size_t passed) {
   json summary = {{"format", kSummaryFormat}, {"suite", RecordJson(r.suite)}, {"runs", runs},
                   {"passed", passed},         {"errors", errors},             {"total", r.jobs.size()}};
   if (!r.families.empty()) summary["families"] = families;
+  if (!r.skipped.empty()) {
+    json skipped = json::array();
+    for (const SkippedRun& s : r.skipped) skipped.push_back({{"file", s.file}, {"scenario", s.scenario}, {"label", s.label}});
+    summary["skipped"] = skipped;
+  }
   return summary;
 }
 

@@ -106,14 +106,14 @@ int RunSuite(const Options& o) {
   Planner plan(o, combos, preset);
   for (const std::string& file : files) plan.AddFile(file);
   if (plan.jobs.empty()) throw BadInput("no scenario to run");
-  SuiteResults results{Record(o, combos, preset), {}, std::move(plan.families)};
+  SuiteResults results{Record(o, combos, preset), {}, std::move(plan.families), std::move(plan.skipped)};
   results.suite.malformed = plan.malformed;
   TakeShard(plan.jobs, files, o, results);
   const int stop_signal = RunJobs(results.jobs, o, results.families);
   results.suite.stop_signal = stop_signal;
   std::size_t passed = 0;
   try {
-    passed = WriteReport(results, o.out);
+    passed = WriteReport(results, o.out, {o.junit_absolute_paths});
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ovpc suite: %s\n", e.what());
     return stop_signal != 0 ? 128 + stop_signal : kExitFailure;

@@ -76,6 +76,7 @@ SuiteResults Combine(std::vector<Shard>& shards) {
   whole.suite.shard = whole.suite.shards = 1;
   whole.suite.merged = static_cast<int>(shards.size());
   whole.families = shards.front().results.families;
+  whole.skipped = shards.front().results.skipped;
   std::vector<const std::string*> folder_of(whole.suite.planned, nullptr);
   for (Shard& shard : shards) {
     for (Job& job : shard.results.jobs) {
@@ -133,14 +134,14 @@ std::pair<int, int> ParseShard(const std::string& text) {
   return {k, n};
 }
 
-int MergeShards(const std::vector<std::string>& folders, const std::string& out) {
+int MergeShards(const std::vector<std::string>& folders, const std::string& out, const ReportOptions& options) {
   if (folders.empty()) throw BadInput("no shard folders to merge");
   std::vector<Shard> shards = LoadShards(folders, out);
   const SuiteResults whole = Combine(shards);
   const FolderLock lock(out);
   std::size_t passed = 0;
   try {
-    passed = WriteReport(whole, out);
+    passed = WriteReport(whole, out, options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ovpc merge: %s\n", e.what());
     return kExitFailure;

@@ -675,6 +675,24 @@ TEST_F(CliTest, ShardsMergeIntoTheUnshardedReport) {
   EXPECT_EQ(b["passed"], a["passed"]);
   EXPECT_EQ(b["suite"]["plan"], a["suite"]["plan"]) << "the same planned runs, sharded or not";
   EXPECT_EQ(b["suite"]["merged_shards"], 3);
+  // The merged report.html is written from the shards' results; its run pages link to the run
+  // folders in the shards' folders.
+  const std::string report = ReadAll(Path("merged/report.html"));
+  EXPECT_NE(report.find("3 of 3 runs passed"), std::string::npos);
+  EXPECT_NE(report.find("<dt>shards</dt><dd>merged from 3</dd>"), std::string::npos) << report;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string page = ReadAll(Path("merged/runs/" + std::to_string(i) + ".html"));
+    const std::smatch m = [&] {
+      std::smatch found;
+      std::regex_search(page, found, std::regex("href=\"([^\"]*)/result\\.json\""));
+      return found;
+    }();
+    ASSERT_EQ(m.size(), 2u) << page;
+    const fs::path folder = fs::path(Path("merged/runs")) / m[1].str();
+    EXPECT_TRUE(fs::exists(folder / "result.json")) << folder;
+    EXPECT_EQ(fs::canonical(folder), fs::canonical(b["runs"][i]["out"].get<std::string>()));
+  }
+  EXPECT_NE(ReadAll(Path("merged/summary.md")).find("# ovpc suite: 3 of 3 runs passed"), std::string::npos);
 }
 
 // A merge is of every shard of one suite, once each, or nothing is written: a missing, repeated,
@@ -726,6 +744,50 @@ TEST_F(CliTest, AMergeOfMissingRepeatedOrForeignShardsIsRefused) {
   EXPECT_EQ(summary["runs"][1]["scenario"], "b");
   EXPECT_EQ(Run("merge --out " + Path("x")).exit_code, 2);
   EXPECT_NE(Run("merge --help").out.find("--out"), std::string::npos);
+}
+
+// `ovpc compare OLD NEW`: the runs that changed verdict (a regression first), pass rates and time to
+// goal per scenario; exit 1 on a regression, 0 otherwise, 2 for a missing or invalid summary.json.
+TEST_F(CliTest, CompareNamesTheRegressedRunsAndExitsOne) {
+  WriteText("short.yaml", testing::kShortFlatScenario);
+  ASSERT_EQ(Run("suite " + Path("short.yaml") + " --seeds 2 --jobs 2 --out " + Path("old")).exit_code, 0);
+  // The later suite: seed 2 fails, seed 1 takes a second longer.
+  fs::create_directories(Path("new"));
+  nlohmann::json later = nlohmann::json::parse(ReadAll(Path("old/summary.json")));
+  ASSERT_EQ(later["runs"].size(), 2u);
+  later["runs"][0]["result"]["sim_time_s"] = later["runs"][0]["result"]["sim_time_s"].get<double>() + 1.0;
+  later["runs"][1]["exit_code"] = 1;
+  later["runs"][1]["passed"] = false;
+  later["runs"][1]["result"]["passed"] = false;
+  WriteText("new/summary.json", later.dump());
+
+  const RunResult r = Run("compare " + Path("old") + " " + Path("new") + " --out " + Path("cmp"));
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("**1 runs regressed (passed, now do not), 0 fixed**; 2 runs in both"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| short_flat seed=2 map=ovpc | regressed | pass | FAIL |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| short_flat | ovpc |  | 2/2 (100 %) | 1/2 (50 %) | -50.0 pp | "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("+1.0 s"), std::string::npos) << "seed 1 reached the goal in both, a second later" << r.out;
+  EXPECT_EQ(ReadAll(Path("cmp/compare.md")) + "\nwrote " + Path("cmp/compare.md") + "\n", r.out);
+
+  const RunResult back = Run("compare " + Path("new/summary.json") + " " + Path("old"));
+  EXPECT_EQ(back.exit_code, 0) << back.out << back.err;
+  EXPECT_NE(back.out.find("**0 runs regressed (passed, now do not), 1 fixed**"), std::string::npos) << back.out;
+  EXPECT_TRUE(fs::exists(Path("old/compare.md"))) << "without --out, beside NEW";
+
+  WriteText("bad.json", "{");
+  const std::pair<std::string, std::string> refused[] = {
+      {Path("old") + " " + Path("none"), Path("none") + ": no such file"},
+      {Path("cmp") + " " + Path("old"), Path("cmp/summary.json") + ": no such file"},
+      {Path("bad.json") + " " + Path("old"), Path("bad.json") + ": not a suite's result file"},
+  };
+  for (const auto& [args, message] : refused) {
+    const RunResult bad = Run("compare " + args);
+    EXPECT_EQ(bad.exit_code, 2) << args;
+    EXPECT_EQ(CountLines(bad.err), 1) << bad.err;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+  }
+  EXPECT_EQ(Run("compare " + Path("old")).exit_code, 2);
+  EXPECT_NE(Run("compare --help").out.find("regressed"), std::string::npos);
 }
 
 }  // namespace

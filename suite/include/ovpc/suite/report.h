@@ -83,18 +83,35 @@ struct SuiteRecord {
   int merged = 0;                   ///< shards this report was merged from (0: the suite's own)
 };
 
+/// A scenario file (or a family's draw) that --skip-label left out: reported as skipped.
+struct SkippedRun {
+  std::string file;      ///< the scenario file (a family's drawn scenario file)
+  std::string scenario;  ///< its name
+  std::string label;     ///< the label it was left out for
+};
+
 /// A suite's results: what WriteReport reports and LoadSuiteResults reads back.
 struct SuiteResults {
   SuiteRecord suite;
   std::vector<Job> jobs;             ///< in the planned order (Job::index ascending)
   std::vector<FamilyInput> families;
+  std::vector<SkippedRun> skipped;   ///< in the order of the inputs
+};
+
+/// How the reports are written.
+struct ReportOptions {
+  /// junit.xml's attachments ([[ATTACHMENT|path]] in a testcase's system-out) as absolute paths
+  /// (Jenkins' JUnit attachments), not relative to junit.xml's folder.
+  bool junit_absolute_paths = false;
 };
 
 /// The summary table, the per-seed and sweep tables, the families' pass-rate tables (and their
-/// files: OUT/<family>/pass_rate.csv, runs.csv, pass_rate_<parameter>.svg), junit.xml and
-/// summary.json in `out`, each written whole or not at all. Returns the number of runs that passed.
+/// files: OUT/<family>/pass_rate.csv, runs.csv, pass_rate_<parameter>.svg), junit.xml, summary.md
+/// (a Markdown summary, e.g. for a CI job's page), report.html with a page per run
+/// (runs/<index>.html) and summary.json in `out`, each written whole or not at all. Returns the
+/// number of runs that passed.
 /// @throws std::runtime_error naming the first file that could not be written whole.
-std::size_t WriteReport(const SuiteResults& results, const std::string& out);
+std::size_t WriteReport(const SuiteResults& results, const std::string& out, const ReportOptions& options = {});
 
 /// The results a summary.json holds (WriteReport's): the report written from them again is the same.
 /// @throws BadInput, one line naming the file and the problem (unreadable, not JSON, no suite record,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ovpc/suite/errors.h"
+#include "ovpc/suite/report.h"
 
 namespace ovpc::suite {
 
@@ -40,22 +41,23 @@ struct Options {
   std::uint64_t family_seed = 1;    ///< families: the seed the draws are made from
   int shard = 1;                    ///< --shard K/N: run shard K of N of the planned runs (ShardOf)
   int shards = 1;
+  bool junit_absolute_paths = false;  ///< junit.xml's attachments as absolute paths (ReportOptions)
 };
 
-/// Runs the suite: prints a progress line and the tables, writes OUT/junit.xml, OUT/summary.json
-/// and the families' reports. SIGINT and SIGTERM stop the runs; the report of what finished is
+/// Runs the suite: prints a progress line and the tables, writes the reports (WriteReport: junit.xml,
+/// summary.md, report.html, summary.json, the families' files) in OUT. SIGINT and SIGTERM stop the runs; the report of what finished is
 /// still written. Returns the exit code: kExitOk every run passed, kExitFailure a run failed or
 /// had an error, kExitBadInput a malformed file among the inputs, 128 + the signal that stopped it.
 /// @throws BadInput for bad options, inputs or an output folder that cannot be used (nothing run).
 int RunSuite(const Options& options);
 
 /// Merges the reports of a sharded suite's shards (their folders' summary.json files alone) into
-/// `out`: the tables, junit.xml, summary.json and the families' files of the whole suite, its runs in
+/// `out`: the tables, junit.xml, summary.md, report.html, summary.json and the families' files of the whole suite, its runs in
 /// the planned order, as the unsharded suite writes them. Returns the exit code the whole suite
 /// would have had.
 /// @throws BadInput naming the folder and what is wrong: no summary.json, a shard missing or given
 /// twice, one of another build, inputs, settings, preset or planned run list, one that was stopped.
-int MergeShards(const std::vector<std::string>& folders, const std::string& out);
+int MergeShards(const std::vector<std::string>& folders, const std::string& out, const ReportOptions& options = {});
 
 /// "K/N" of --shard: 1 <= K <= N <= kMaxShards.
 /// @throws BadInput otherwise.
