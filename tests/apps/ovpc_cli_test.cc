@@ -640,8 +640,12 @@ TEST_F(CliTest, ReportsEscapeWhatTheyQuote) {
   EXPECT_NE(junit.find("\\x01"), std::string::npos) << junit;
 }
 
-// junit.xml without the runs' wall-clock times (the only thing two runs of a run may differ in).
-std::string JunitWithoutTimes(const std::string& junit) { return std::regex_replace(junit, std::regex(" time=\"[^\"]*\""), ""); }
+// junit.xml without the runs' wall-clock times (the only thing two runs of a run may differ in) and
+// attachments (a merged report's are in the shards' folders).
+std::string JunitWithoutTimes(const std::string& junit) {
+  const std::string timeless = std::regex_replace(junit, std::regex(" time=\"[^\"]*\""), "");
+  return std::regex_replace(timeless, std::regex("<system-out>[^<]*</system-out>"), "");
+}
 
 // A suite split into shards (--shard K/N) and merged (`ovpc merge`) reports what the unsharded
 // suite reports: the same testcases in the same order, the same verdicts. Each run is in one shard.
@@ -662,7 +666,16 @@ TEST_F(CliTest, ShardsMergeIntoTheUnshardedReport) {
   const RunResult merged = Run("merge " + Path("s3") + " " + Path("s1") + " " + Path("s2") + " --out " + Path("merged"));
   ASSERT_EQ(merged.exit_code, 0) << merged.out << merged.err;
   EXPECT_NE(merged.out.find("3 of 3 runs passed"), std::string::npos) << merged.out;
-  EXPECT_EQ(JunitWithoutTimes(ReadAll(Path("merged/junit.xml"))), JunitWithoutTimes(ReadAll(Path("whole/junit.xml"))));
+  const std::string merged_junit = ReadAll(Path("merged/junit.xml"));
+  EXPECT_EQ(JunitWithoutTimes(merged_junit), JunitWithoutTimes(ReadAll(Path("whole/junit.xml"))));
+  // The merged junit.xml's attachments are the shards' files, relative to its folder.
+  const std::regex attachment("\\[\\[ATTACHMENT\\|([^\\]]*)\\]\\]");
+  int attachments = 0;
+  for (auto it = std::sregex_iterator(merged_junit.begin(), merged_junit.end(), attachment); it != std::sregex_iterator(); ++it) {
+    ++attachments;
+    EXPECT_TRUE(fs::exists(fs::path(Path("merged")) / (*it)[1].str())) << (*it)[1].str();
+  }
+  EXPECT_EQ(attachments, 3) << "topdown.png of each run" << merged_junit;
   const nlohmann::json a = nlohmann::json::parse(ReadAll(Path("whole/summary.json")));
   const nlohmann::json b = nlohmann::json::parse(ReadAll(Path("merged/summary.json")));
   ASSERT_EQ(b["runs"].size(), 3u);
