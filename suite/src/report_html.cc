@@ -26,8 +26,8 @@ h1{font-size:1.5em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #
 table{border-collapse:collapse;margin:.5em 0}th,td{border:1px solid #ccc;padding:2px 6px;text-align:left;vertical-align:top}
 th{background:#eee}table.sortable th{cursor:pointer}table.sortable th[data-order=asc]::after{content:" \25B2"}
 table.sortable th[data-order=desc]::after{content:" \25BC"}td.num{text-align:right}
-.pass{color:#17692b}.FAIL,.ERROR{color:#b00020;font-weight:bold}.any{color:#777}
-tr.FAIL td,tr.ERROR td{background:#fdecee}.bar{display:inline-block;height:.8em;background:#2e7d32}
+td.pass,span.pass{color:#17692b}td.FAIL,td.ERROR,span.FAIL,span.ERROR,p.ERROR{color:#b00020;font-weight:bold}td.any{color:#777}
+tr.FAIL td,tr.ERROR td{background:#fdecee}.bar{display:block;height:100%;background:#2e7d32}
 .barbg{display:inline-block;width:80px;height:.8em;background:#e57373;vertical-align:middle}
 pre{background:#f6f6f6;padding:.5em;white-space:pre-wrap}img.topdown{max-width:100%;border:1px solid #ccc}
 dl{display:grid;grid-template-columns:max-content auto;gap:2px 12px}dt{font-weight:bold}dd{margin:0}
@@ -122,7 +122,7 @@ std::string RunRow(const SuiteResults& r, const Job& job) {
   const Outcome o = OutcomeOf(job);
   std::string end = job.error.empty() ? job.result.value("end_reason", std::string()) : job.error.substr(0, job.error.find('\n'));
   const std::string verdict = DiagnosisVerdict(job);
-  if (!verdict.empty() && o != Outcome::kPass) end += " (" + verdict + ")";
+  if (!verdict.empty() && (o == Outcome::kFail || o == Outcome::kError)) end += " (" + verdict + ")";
   std::ostringstream row;
   row << "<tr class=\"" << OutcomeLabel(o) << "\"><td data-v=\"" << job.index << "\"><a href=\"runs/" << job.index << ".html\">"
       << job.index << "</a></td><td>" << H(GroupName(r.families, job)) << (job.draw ? " " + scenarios::DrawFolder(DrawOf(r.families, job).index) : "")
@@ -291,7 +291,10 @@ std::string Scorecard(const Job& job) {
   return t.str();
 }
 
-std::string JsonText(const json& v) { return v.is_string() ? v.get<std::string>() : v.is_null() ? "-" : v.dump(); }
+std::string JsonText(const json& v) {
+  if (v.is_number_float()) return Num(v.get<double>(), 2);
+  return v.is_string() ? v.get<std::string>() : v.is_null() ? "-" : v.dump();
+}
 
 std::string Diagnosis(const Job& job) {
   std::ostringstream d;
