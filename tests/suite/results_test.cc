@@ -111,6 +111,8 @@ SuiteResults MadeUpSuite(const std::string& out) {
     r.jobs.push_back(job);
   }
   for (std::size_t i = 0; i < r.jobs.size(); ++i) r.jobs[i].index = i;
+  r.skipped.push_back({"/inputs/long.yaml", "long_one", "long"});
+  r.suite.skip_labels = {"long"};
   r.suite.planned = r.jobs.size();
   r.suite.plan_fingerprint = ContentHash("plan");
   return r;
@@ -132,8 +134,9 @@ TEST_F(ResultsTest, TheReportWrittenFromItsSummaryIsTheSameReport) {
   const std::size_t passed = WriteReport(made, (dir_ / "a").string());
   const SuiteResults loaded = LoadSuiteResults((dir_ / "a" / "summary.json").string());
   EXPECT_EQ(WriteReport(loaded, (dir_ / "b").string()), passed);
-  for (const char* file : {"junit.xml", "summary.json", "short_family/pass_rate.csv", "short_family/runs.csv",
-                           "short_family/pass_rate_goal_x.svg", "short_family/pass_rate_post_y.svg"}) {
+  for (const char* file : {"junit.xml", "summary.json", "summary.md", "report.html", "runs/0.html", "runs/8.html",
+                           "short_family/pass_rate.csv", "short_family/runs.csv", "short_family/pass_rate_goal_x.svg",
+                           "short_family/pass_rate_post_y.svg"}) {
     const std::string a = ReadBytes(dir_ / "a" / file);
     EXPECT_FALSE(a.empty()) << file;
     EXPECT_EQ(a, ReadBytes(dir_ / "b" / file)) << file;
@@ -150,6 +153,9 @@ TEST_F(ResultsTest, TheReportWrittenFromItsSummaryIsTheSameReport) {
   EXPECT_EQ(loaded.suite.combinations, made.suite.combinations);
   EXPECT_EQ(loaded.suite.build, "v1-test");
   EXPECT_TRUE(loaded.suite.malformed);
+  ASSERT_EQ(loaded.skipped.size(), 1u) << "the scenarios --skip-label left out";
+  EXPECT_EQ(loaded.skipped[0].scenario, "long_one");
+  EXPECT_EQ(loaded.skipped[0].label, "long");
   const nlohmann::json summary = nlohmann::json::parse(ReadBytes(dir_ / "a" / "summary.json"));
   EXPECT_EQ(summary["families"][0]["pass_rate_csv"], "short_family/pass_rate.csv") << "relative to the report";
   EXPECT_EQ(summary["suite"]["preset"]["hash"], ContentHash("navigator: {}\n"));
