@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numeric>
+#include <set>
 #include <sstream>
 
 #include "ovpc/scenarios/pass_rate.h"
@@ -352,7 +353,19 @@ std::string RunPage(const SuiteResults& r, const Job& job, const fs::path& from)
 void WriteHtmlReport(const SuiteResults& results, const std::string& out) {
   const fs::path runs = fs::path(out) / "runs";
   MakeFolder(runs);
-  for (const Job& job : results.jobs) WriteFileAtomic(runs / (std::to_string(job.index) + ".html"), RunPage(results, job, runs));
+  std::set<std::string> pages;
+  for (const Job& job : results.jobs) {
+    pages.insert(std::to_string(job.index) + ".html");
+    WriteFileAtomic(runs / (std::to_string(job.index) + ".html"), RunPage(results, job, runs));
+  }
+  // An earlier suite's run pages that this report does not have (<number>.html only) go.
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(runs, ec)) {
+    const std::string name = e.path().filename().string();
+    const bool page = name.size() > 5 && name.compare(name.size() - 5, 5, ".html") == 0 &&
+                      name.find_first_not_of("0123456789") == name.size() - 5;
+    if (page && !pages.count(name) && e.is_regular_file(ec)) fs::remove(e.path(), ec);
+  }
   WriteFileAtomic(fs::path(out) / "report.html", ReportPage(results));
 }
 

@@ -12,13 +12,13 @@ namespace {
 // At most this many runs that did not pass are listed (report.html has them all).
 constexpr std::size_t kMaxListed = 50;
 
-std::string Seconds(double s) {
+std::string MdSeconds(double s) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.1f", s);
   return text;
 }
 
-std::string Counts(const SuiteResults& r) {
+std::string MdCounts(const SuiteResults& r) {
   std::size_t passed = 0, failed = 0, errors = 0, any = 0;
   for (const Job& job : r.jobs) {
     const Outcome o = OutcomeOf(job);
@@ -38,7 +38,7 @@ std::string Counts(const SuiteResults& r) {
   return md.str();
 }
 
-std::string NotPassed(const SuiteResults& r) {
+std::string MdNotPassed(const SuiteResults& r) {
   std::ostringstream md;
   std::size_t listed = 0, total = 0;
   for (const Job& job : r.jobs) {
@@ -55,7 +55,7 @@ std::string NotPassed(const SuiteResults& r) {
   return md.str();
 }
 
-std::string Groups(const SuiteResults& r) {
+std::string MdGroups(const SuiteResults& r) {
   const std::vector<ScenarioGroup> groups = ScenarioGroups(r);
   if (groups.empty()) return "";
   std::ostringstream md;
@@ -64,14 +64,14 @@ std::string Groups(const SuiteResults& r) {
   for (const ScenarioGroup& g : groups) {
     std::string seeds;
     for (std::uint64_t s : g.failed_seeds) seeds += (seeds.empty() ? "" : ", ") + std::to_string(s);
-    const std::string goal = g.arrived == 0 ? "-" : Seconds(g.goal_min_s) + "-" + Seconds(g.goal_max_s);
+    const std::string goal = g.arrived == 0 ? "-" : MdSeconds(g.goal_min_s) + "-" + MdSeconds(g.goal_max_s);
     md << "| " << MarkdownCell(g.scenario) << " | " << MarkdownCell(g.map) << " | " << MarkdownCell(g.settings) << " | "
-       << Rate(g.passed, g.runs) << " | " << (seeds.empty() ? "-" : seeds) << " | " << goal << " | " << Seconds(g.time_limit_s) << " |\n";
+       << Rate(g.passed, g.runs) << " | " << (seeds.empty() ? "-" : seeds) << " | " << goal << " | " << MdSeconds(g.time_limit_s) << " |\n";
   }
   return md.str();
 }
 
-std::string Families(const SuiteResults& r) {
+std::string MdFamilies(const SuiteResults& r) {
   if (r.families.empty()) return "";
   std::ostringstream md;
   md << "\n## Families\n\n| family | expected to pass: ok | expected to refuse: ok | not counted | errors |\n|---|---|---|---|---|\n";
@@ -85,7 +85,7 @@ std::string Families(const SuiteResults& r) {
 }  // namespace
 
 std::string SummaryMarkdown(const SuiteResults& results) {
-  return Counts(results) + NotPassed(results) + Groups(results) + Families(results);
+  return MdCounts(results) + MdNotPassed(results) + MdGroups(results) + MdFamilies(results);
 }
 
 }  // namespace ovpc::suite

@@ -763,7 +763,14 @@ TEST_F(CliTest, AMergeOfMissingRepeatedOrForeignShardsIsRefused) {
 // goal per scenario; exit 1 on a regression, 0 otherwise, 2 for a missing or invalid summary.json.
 TEST_F(CliTest, CompareNamesTheRegressedRunsAndExitsOne) {
   WriteText("short.yaml", testing::kShortFlatScenario);
+  // An earlier suite's page of a run this suite does not have goes; a page of someone else's stays.
+  fs::create_directories(Path("old/runs"));
+  WriteText("old/runs/7.html", "earlier");
+  WriteText("old/runs/notes.html", "mine");
   ASSERT_EQ(Run("suite " + Path("short.yaml") + " --seeds 2 --jobs 2 --out " + Path("old")).exit_code, 0);
+  EXPECT_FALSE(fs::exists(Path("old/runs/7.html")));
+  EXPECT_TRUE(fs::exists(Path("old/runs/notes.html")));
+  EXPECT_TRUE(fs::exists(Path("old/runs/0.html")) && fs::exists(Path("old/runs/1.html")));
   // The later suite: seed 2 fails, seed 1 takes a second longer.
   fs::create_directories(Path("new"));
   nlohmann::json later = nlohmann::json::parse(ReadAll(Path("old/summary.json")));
