@@ -38,6 +38,7 @@
 #include <octomap/octomap.h>
 
 #include "ovpc/bench/octomap_peer.h"
+#include "ovpc/bench/normals_experiment.h"
 #include "ovpc/bench/outdoor_clouds.h"
 #include "ovpc/bench/report.h"
 #include "ovpc/bench/stats.h"
@@ -292,6 +293,23 @@ struct Row {
   std::string output_what;   ///< what `output` counts
 };
 
+/// The vertex-normal rule other than the library default's, and a mapper with it (the rest default).
+OvpcMapper::Config OtherNormalsConfig() {
+  OvpcMapper::Config config;
+  config.vertex_normals.rule = config.vertex_normals.rule == VertexNormals::Rule::kPlaneFit
+                                   ? VertexNormals::Rule::kMeanOfFaces
+                                   : VertexNormals::Rule::kPlaneFit;
+  return config;
+}
+
+/// Per size: the update and its vertex_cloud stage (vertex normals, flags, k-d tree) under the
+/// default rule and the other one, medians in ms.
+struct NormalsCost {
+  std::size_t size = 0;
+  double update_ms = 0.0, stage_ms = 0.0;
+  double other_update_ms = 0.0, other_stage_ms = 0.0;
+};
+
 std::string OctomapName(double resolution_m) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "octomap_%.1f", resolution_m);
@@ -412,7 +430,8 @@ void RunSequence(const Options& options, std::vector<Row>* rows) {
   OvpcMapper::Config reference_config;
   reference_config.ghpr.reference_hull = true;
   const OvpcMapper reference(reference_config);
-  std::vector<double> fast_ms, reference_ms;
+  const OvpcMapper other(OtherNormalsConfig());
+  std::vector<double> fast_ms, reference_ms, other_ms;
   std::size_t min_points = SIZE_MAX, max_points = 0, failures = 0;
   RunOvpc(mapper, clouds.front());  // warm-up
   for (const Points& cloud : clouds) {
@@ -422,8 +441,9 @@ void RunSequence(const Options& options, std::vector<Row>* rows) {
     failures += run.ok ? 0 : 1;
     fast_ms.push_back(run.run.ms);
     reference_ms.push_back(RunOvpc(reference, cloud).run.ms);
+    other_ms.push_back(RunOvpc(other, cloud).run.ms);
   }
-  const SampleStats fast = Summarize(fast_ms), ref = Summarize(reference_ms);
+  const SampleStats fast = Summarize(fast_ms), ref = Summarize(reference_ms), alt = Summarize(other_ms);
   std::printf("\nSequence: %zu consecutive clouds (%zu..%zu points), one update per scan\n", clouds.size(),
               min_points, max_points);
   std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f%s\n", "ovpc",
@@ -431,9 +451,14 @@ void RunSequence(const Options& options, std::vector<Row>* rows) {
               failures ? "  (some updates failed)" : "");
   std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f\n",
               "ovpc (CGAL quickhull)", ref.median, ref.p90, ref.p99, ref.max, ref.p99 / ref.median);
+  const std::string other_name = "ovpc (" + VertexNormalRuleName(other.config().vertex_normals.rule) + ")";
+  std::printf("  %-22s median %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms  p99/median %.2f  (ovpc / this: %.2fx)\n",
+              other_name.c_str(), alt.median, alt.p90, alt.p99, alt.max, alt.p99 / alt.median, fast.median / alt.median);
   rows->push_back(Row{max_points, "sequence.ovpc", false, fast, 1.0, clouds.size(), "clouds"});
   rows->push_back(Row{max_points, "sequence.ovpc_cgal_hull", false, ref, ref.median / fast.median,
                       clouds.size(), "clouds"});
+  rows->push_back(Row{max_points, "sequence.ovpc_" + VertexNormalRuleName(other.config().vertex_normals.rule), false, alt,
+                      alt.median / fast.median, clouds.size(), "clouds"});
 
   if (options.threads == 2) {
     // Throughput per cloud, wall clock: the same two stages one after the other, then pipelined.
@@ -485,6 +510,10 @@ int Main(int argc, char** argv) {
   const double gamma = mapper.config().ghpr.gamma;
   const Clock::time_point bench_start = Clock::now();
 
+  const OvpcMapper other_mapper(OtherNormalsConfig());
+  const std::string rule_name = VertexNormalRuleName(mapper.config().vertex_normals.rule);
+  const std::string other_name = "ovpc_" + VertexNormalRuleName(other_mapper.config().vertex_normals.rule);
+  std::vector<NormalsCost> normals_costs;
   std::vector<Row> rows;
   int ovpc_failures = 0;
   std::string first_failure;
@@ -546,6 +575,18 @@ int Main(int argc, char** argv) {
       ReportProgress(size, name, row.stats);
       rows.push_back(row);
     };
+    // The other vertex-normal rule on the same clouds: the whole update and its vertex_cloud stage.
+    std::vector<OvpcRun> other_results;
+    add_method(other_name, "visible points", [&](int cloud) {
+      other_results.push_back(RunOvpc(other_mapper, clouds[cloud]));
+      return other_results.back().run;
+    });
+    other_results.erase(other_results.begin());  // the warm-up run
+    std::vector<double> stage_ms, other_stage_ms;
+    for (const OvpcRun& result : ovpc_results) stage_ms.push_back(result.timings.vertex_cloud_ms);
+    for (const OvpcRun& result : other_results) other_stage_ms.push_back(result.timings.vertex_cloud_ms);
+    normals_costs.push_back({size, ovpc_median_ms, Summarize(stage_ms).median, rows.back().stats.median,
+                             Summarize(other_stage_ms).median});
     OvpcMapper::Config reference_config;
     reference_config.ghpr.reference_hull = true;
     const OvpcMapper reference(reference_config);
@@ -572,13 +613,14 @@ int Main(int argc, char** argv) {
   std::printf("timing:  %s around the measured call; 1 untimed warm-up per case; "
               "reps %d (fewer if over %.0f s per case); ratio = median / OVPC median\n",
               g_cpu_time ? "thread CPU time" : "steady_clock (wall)", options.reps, kCaseBudget_s);
-  std::printf("methods: ovpc = OvpcMapper::Update (gamma %.3g); ovpc_cgalhull = the same with CGAL's quickhull\n"
+  std::printf("methods: ovpc = OvpcMapper::Update (gamma %.3g, vertex normals %s); %s = the same with the other\n"
+              "         vertex-normal rule; ovpc_cgalhull = the same as ovpc with CGAL's quickhull\n"
               "         (Ghpr::Config::reference_hull); cgal_hull = plain path: GHPR transform + "
               "CGAL convex_hull_3 on all points;\n"
               "         octomap_R = fresh OcTree(R), insertPointCloud from the origin, no max "
               "range\n\n",
-              gamma);
-  std::printf("%7s  %-12s %5s %10s %10s %10s %10s %9s  %-14s %s\n", "size", "method", "reps",
+              gamma, rule_name.c_str(), other_name.c_str());
+  std::printf("%7s  %-18s %5s %10s %10s %10s %10s %9s  %-14s %s\n", "size", "method", "reps",
               "median_ms", "p90_ms", "p99_ms", "mean_ms", "sd_ms", "vs OVPC", "output");
   std::size_t last_size = 0;
   for (const Row& r : rows) {
@@ -587,7 +629,7 @@ int Main(int argc, char** argv) {
     last_size = r.size;
     char ratio[32];
     std::snprintf(ratio, sizeof(ratio), "%.2fx", r.ratio);
-    std::printf("%7zu  %-12s %5d %10.3f %10.3f %10.3f %10.3f %9.3f  %-14s %zu %s\n", r.size,
+    std::printf("%7zu  %-18s %5d %10.3f %10.3f %10.3f %10.3f %9.3f  %-14s %zu %s\n", r.size,
                 r.method.c_str(), static_cast<int>(r.stats.n), r.stats.median, r.stats.p90,
                 r.stats.p99, r.stats.mean, r.stats.sd, ratio, r.output,
                 r.output_what.c_str());
@@ -616,6 +658,14 @@ int Main(int argc, char** argv) {
     }
     std::printf("\n");
   }
+  std::printf("\nVertex normals, medians in ms: the update and its vertex_cloud stage (normals, flags, k-d tree)\n");
+  std::printf("%7s %14s %14s %14s %14s %9s\n", "size", ("ovpc " + rule_name).c_str(), "stage",
+              other_name.c_str(), "stage", "ratio");
+  for (const NormalsCost& c : normals_costs) {
+    std::printf("%7zu %14.3f %14.3f %14.3f %14.3f %8.2fx\n", c.size, c.update_ms, c.stage_ms, c.other_update_ms,
+                c.other_stage_ms, c.other_update_ms > 0.0 ? c.update_ms / c.other_update_ms : 0.0);
+  }
+  std::printf("(ratio: the ovpc update's median over the %s update's)\n", other_name.c_str());
   if (ovpc_failures > 0) {
     std::printf("\nWARNING: %d OVPC updates did not return ok (first: %s)\n", ovpc_failures,
                 first_failure.c_str());

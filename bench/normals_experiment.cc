@@ -4,16 +4,19 @@
 // docs/PAPER_REPRODUCTION.md for the figures.
 //
 // Outputs (in --out-dir): normals_ovpc.csv and normals_pca.csv, one row per alpha
-// (alpha_deg, mean_deg, sd_deg, median_deg, p95_deg, n, n_without_normal, n_over_90, points:
+// (alpha_deg, mean_deg, sd_deg, median_deg, p95_deg, n, n_without_normal, n_over_90, points, p90_deg:
 // n points with a normal, n_without_normal without one, n_over_90 of the n with an error above
 // 90 deg, i.e. facing the wrong side; points in the bundled cloud);
 // normals_pca_visible.csv (the PCA errors on OVPC's visible points only, a like-for-like check);
+// normals_ovpc_mean_of_faces.csv or normals_ovpc_plane_fit.csv (the same meshes' vertex normals
+// under the other rule than --vertex-normals, so that every run reports both);
 // normals_pca_eigen.csv with --pca both; normals_summary.json (settings, means over alpha, times).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -53,6 +56,7 @@ struct Options {
   SlopeSceneConfig scene;
   double pca_radius_m = 0.3;
   double gamma = OvpcMapper::Config{}.ghpr.gamma;
+  VertexNormals::Rule vertex_normals = OvpcMapper::Config{}.vertex_normals.rule;
   bool unoriented = false;
   OvpcInputFilter filter;
 };
@@ -90,12 +94,12 @@ AlphaRow MakeRow(double alpha_deg, const MethodErrors& errors, std::size_t point
 bool WriteSeries(const std::string& path, const MethodSeries& series) {
   std::ofstream out(path);
   if (!out) return false;
-  out << "alpha_deg,mean_deg,sd_deg,median_deg,p95_deg,n,n_without_normal,n_over_90,points\n";
+  out << "alpha_deg,mean_deg,sd_deg,median_deg,p95_deg,n,n_without_normal,n_over_90,points,p90_deg\n";
   char buffer[256];
   for (const AlphaRow& r : series.rows) {
-    std::snprintf(buffer, sizeof(buffer), "%.2f,%.6f,%.6f,%.6f,%.6f,%zu,%zu,%zu,%zu\n",
+    std::snprintf(buffer, sizeof(buffer), "%.2f,%.6f,%.6f,%.6f,%.6f,%zu,%zu,%zu,%zu,%.6f\n",
                   r.alpha_deg, r.stats.mean, r.stats.sd, r.stats.median, r.stats.p95, r.stats.n,
-                  r.without_normal, r.over_90, r.points);
+                  r.without_normal, r.over_90, r.points, r.stats.p90);
     out << buffer;
   }
   return static_cast<bool>(out);
@@ -108,6 +112,7 @@ struct OverAlpha {
   double mean_of_sds = 0.0;
   double mean_of_medians = 0.0;
   double mean_of_p95 = 0.0;
+  double mean_of_p90 = 0.0;
   double share_over_90 = 0.0;  ///< of all evaluated points, over every alpha
 };
 
@@ -123,12 +128,14 @@ OverAlpha Average(const MethodSeries& series) {
     a.mean_of_sds += r.stats.sd;
     a.mean_of_medians += r.stats.median;
     a.mean_of_p95 += r.stats.p95;
+    a.mean_of_p90 += r.stats.p90;
   }
   const double n = static_cast<double>(series.rows.size());
   a.mean_of_means /= n;
   a.mean_of_sds /= n;
   a.mean_of_medians /= n;
   a.mean_of_p95 /= n;
+  a.mean_of_p90 /= n;
   a.share_over_90 = evaluated > 0 ? static_cast<double>(over_90) / evaluated : 0.0;
   return a;
 }
@@ -210,6 +217,10 @@ int Run(const Options& o) {
       static_cast<int>(std::floor((o.alpha_max_deg - o.alpha_min_deg) / o.step_deg + 1e-9)) + 1;
   OvpcMapper::Config mapper_config;
   mapper_config.ghpr.gamma = o.gamma;
+  mapper_config.vertex_normals.rule = o.vertex_normals;
+  VertexNormals::Config other_normals = mapper_config.vertex_normals;
+  other_normals.rule = o.vertex_normals == VertexNormals::Rule::kPlaneFit ? VertexNormals::Rule::kMeanOfFaces
+                                                                          : VertexNormals::Rule::kPlaneFit;
   try {
     mapper_config.Validate();
   } catch (const std::invalid_argument& e) {
@@ -218,6 +229,8 @@ int Run(const Options& o) {
   }
   const OvpcMapper mapper(mapper_config);
   MethodSeries ovpc{"ovpc", "normals_ovpc.csv", {}, 0.0};
+  const std::string other_name = "ovpc_" + VertexNormalRuleName(other_normals.rule);
+  MethodSeries ovpc_other{other_name, "normals_" + other_name + ".csv", {}, 0.0};
   MethodSeries pca{"pca", "normals_pca.csv", {}, 0.0};
   MethodSeries pca_visible{"pca_visible", "normals_pca_visible.csv", {}, 0.0};
   MethodSeries pca_eigen{"pca_eigen", "normals_pca_eigen.csv", {}, 0.0};
@@ -230,12 +243,14 @@ int Run(const Options& o) {
     const double alpha_deg = std::round((o.alpha_min_deg + k * o.step_deg) * 1e6) / 1e6;
     const std::uint64_t seed = TrialSeed(o.seed, static_cast<std::uint64_t>(k));
     const NormalsTrial trial =
-        RunNormalsTrial(alpha_deg, o.scene, mapper, primary, seed, o.filter);
+        RunNormalsTrial(alpha_deg, o.scene, mapper, primary, seed, o.filter, &other_normals);
     if (trial.ovpc_status != GhprStatus::kOk) ++ovpc_failures;
     points_total += trial.points;
     ovpc_points_total += trial.ovpc_input_points;
     ovpc.rows.push_back(MakeRow(alpha_deg, trial.ovpc, trial.points, o.unoriented));
     ovpc.total_ms += trial.ovpc.ms;
+    ovpc_other.rows.push_back(MakeRow(alpha_deg, trial.ovpc_other, trial.points, o.unoriented));
+    ovpc_other.total_ms += trial.ovpc_other.ms;
     pca.rows.push_back(MakeRow(alpha_deg, trial.pca, trial.points, o.unoriented));
     pca.total_ms += trial.pca.ms;
     pca_visible.rows.push_back(MakeRow(alpha_deg, trial.pca_visible, trial.points, o.unoriented));
@@ -275,7 +290,7 @@ int Run(const Options& o) {
   }
   const double wall_s = MsSince(start, Clock::now()) / 1000.0;
 
-  std::vector<const MethodSeries*> outputs = {&ovpc, &pca, &pca_visible};
+  std::vector<const MethodSeries*> outputs = {&ovpc, &ovpc_other, &pca, &pca_visible};
   if (also_eigen) outputs.push_back(&pca_eigen);
   int exit_code = 0;
   for (const MethodSeries* series : outputs) {
@@ -302,17 +317,20 @@ int Run(const Options& o) {
               static_cast<unsigned long long>(o.seed), points_total / num_alphas);
   std::printf("metric:  %s angle between the estimated and the true normal\n",
               o.unoriented ? "UNORIENTED (diagnostic)" : "oriented");
-  std::printf("methods: ovpc = OVPC vertex normals (OvpcMapper defaults, gamma %.3g); pca = %s, "
+  std::printf("methods: ovpc = OVPC vertex normals (OvpcMapper defaults, gamma %.3g, vertex normals %s, "
+              "patch %.2f m / %d points); %s = the same meshes' normals by %s; pca = %s, "
               "radius %.2f m, flipped towards the viewpoint\n",
-              mapper.config().ghpr.gamma, pca_name.c_str(), o.pca_radius_m);
+              mapper.config().ghpr.gamma, VertexNormalRuleName(o.vertex_normals).c_str(), mapper_config.vertex_normals.radius_m,
+              mapper_config.vertex_normals.max_patch_points, other_name.c_str(), VertexNormalRuleName(other_normals.rule).c_str(),
+              pca_name.c_str(), o.pca_radius_m);
   if (o.filter.voxel_size_m > 0.0) {
     std::printf("OVPC input: VOXEL-FILTERED (diagnostic), %.3f m voxels with >= %d points; "
                 "about %zu points per slope\n",
                 o.filter.voxel_size_m, o.filter.min_hits, ovpc_points_total / num_alphas);
   }
   std::printf("\n");
-  std::printf("%-12s %16s %16s %16s %16s %9s %12s\n", "method", "mean of means", "mean of sds",
-              "mean of medians", "mean of p95", "> 90 deg", "time/slope");
+  std::printf("%-19s %16s %16s %16s %16s %16s %9s %12s\n", "method", "mean of means", "mean of sds",
+              "mean of medians", "mean of p90", "mean of p95", "> 90 deg", "time/slope");
   nlohmann::json summary;
   for (const MethodSeries* series : outputs) {
     const OverAlpha a = Average(*series);
@@ -320,13 +338,14 @@ int Run(const Options& o) {
     if (series->total_ms > 0.0) {
       std::snprintf(time, sizeof(time), "%.1f ms", series->total_ms / num_alphas);
     }
-    std::printf("%-12s %12.3f deg %12.3f deg %12.3f deg %12.3f deg %8.3f%% %12s\n",
-                series->name.c_str(), a.mean_of_means, a.mean_of_sds, a.mean_of_medians,
+    std::printf("%-19s %12.3f deg %12.3f deg %12.3f deg %12.3f deg %12.3f deg %8.3f%% %12s\n",
+                series->name.c_str(), a.mean_of_means, a.mean_of_sds, a.mean_of_medians, a.mean_of_p90,
                 a.mean_of_p95, 100.0 * a.share_over_90, time);
     summary["methods"][series->name] = {{"csv", series->file},
                                         {"mean_of_means_deg", a.mean_of_means},
                                         {"mean_of_sds_deg", a.mean_of_sds},
                                         {"mean_of_medians_deg", a.mean_of_medians},
+                                        {"mean_of_p90_deg", a.mean_of_p90},
                                         {"mean_of_p95_deg", a.mean_of_p95},
                                         {"share_over_90", a.share_over_90},
                                         {"total_ms", series->total_ms}};
@@ -343,6 +362,11 @@ int Run(const Options& o) {
   summary["pca_radius_m"] = o.pca_radius_m;
   summary["seed"] = o.seed;
   summary["gamma"] = o.gamma;
+  summary["vertex_normals"] = {{"rule", VertexNormalRuleName(o.vertex_normals)},
+                               {"other_rule", VertexNormalRuleName(other_normals.rule)},
+                               {"radius_m", mapper_config.vertex_normals.radius_m},
+                               {"max_patch_points", mapper_config.vertex_normals.max_patch_points},
+                               {"other_rule_ms_note", "the other rule's total_ms is BuildTraversabilityCloud alone"}};
   summary["metric"] = o.unoriented ? "unoriented" : "oriented";
   summary["ovpc_voxel_m"] = o.filter.voxel_size_m;
   summary["ovpc_min_hits"] = o.filter.min_hits;
@@ -396,6 +420,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--gamma", o.gamma, "GHPR exponential kernel parameter (paper: -0.03)")
       ->capture_default_str();
+  app.add_option("--vertex-normals", o.vertex_normals,
+                 "Rule of the ovpc series: plane_fit or mean_of_faces (the paper's); the other rule's "
+                 "errors on the same meshes are written beside it")
+      ->transform(CLI::CheckedTransformer(ovpc::bench::VertexNormalRules()));
   app.add_option("--slope-start", o.scene.slope_start_x_m,
                  "x where the inclined plane starts, m (not given in the paper)")
       ->capture_default_str();

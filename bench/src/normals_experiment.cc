@@ -210,7 +210,8 @@ MethodErrors PointNormalErrors(const SlopeScene& scene, const baselines::PcaNorm
 
 NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_config,
                              const OvpcMapper& mapper, const NormalEstimator& pca,
-                             std::uint64_t seed, const OvpcInputFilter& filter) {
+                             std::uint64_t seed, const OvpcInputFilter& filter,
+                             const VertexNormals::Config* other_normals) {
   NormalsTrial trial;
   trial.alpha_deg = alpha_deg;
   trial.seed = seed;
@@ -227,6 +228,14 @@ NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_con
   trial.ovpc_status = map.status;
   trial.ovpc = filtered ? OvpcErrorsByPosition(scene, scene_config, map) : OvpcErrors(scene, map);
   trial.ovpc.ms = ovpc_ms;
+  if (other_normals != nullptr && map.ok()) {
+    OvpcMap other = map;
+    start = Clock::now();
+    other.cloud = BuildTraversabilityCloud(other.mesh, *other_normals);
+    const double other_ms = MsSince(start, Clock::now());
+    trial.ovpc_other = filtered ? OvpcErrorsByPosition(scene, scene_config, other) : OvpcErrors(scene, other);
+    trial.ovpc_other.ms = other_ms;
+  }
 
   start = Clock::now();
   const baselines::PcaNormals normals = pca(scene.points, scene.viewpoint);
@@ -247,6 +256,37 @@ NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_con
     if (visible[i] && normals.normals[i].isZero(0.0)) ++trial.pca_visible.without_normal;
   }
   return trial;
+}
+
+namespace {
+
+// Collects the names of the one choice in VertexNormals::Config.
+struct RuleNames {
+  std::map<std::string, VertexNormals::Rule> by_name;
+  template <class T>
+  void Field(const char*, T&, const char*, const char*) {}
+  template <class E>
+  void Choice(const char*, E&, Choices<E> choices, const char*) {
+    for (const auto& [name, value] : choices) by_name[name] = value;
+  }
+  template <class C>
+  void Section(const char*, C&, const char*) {}
+};
+
+}  // namespace
+
+std::map<std::string, VertexNormals::Rule> VertexNormalRules() {
+  VertexNormals::Config config;
+  RuleNames names;
+  VisitFields(config, names);
+  return names.by_name;
+}
+
+std::string VertexNormalRuleName(VertexNormals::Rule rule) {
+  for (const auto& [name, value] : VertexNormalRules()) {
+    if (value == rule) return name;
+  }
+  return "?";
 }
 
 std::uint64_t TrialSeed(std::uint64_t run_seed, std::uint64_t index) {

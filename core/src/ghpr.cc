@@ -161,6 +161,7 @@ void BuildMesh(const Points& points, const Vec3& viewpoint, Scratch* scratch, Gh
   std::vector<int>& mesh_index_of_image = scratch->mesh_index;
   mesh_index_of_image.assign(n + 1, -1);
   FreeSpaceMesh& mesh = result->mesh;
+  mesh.viewpoint = viewpoint;
   mesh.vertices.reserve(hull_vertices.size());
   mesh.source_index.reserve(hull_vertices.size());
   for (int image : hull_vertices) {

@@ -17,6 +17,7 @@ using internal::MsSince;
 void OvpcMapper::Config::Validate() const {
   ghpr.Validate();
   traversability.Validate();
+  vertex_normals.Validate();
   // ComputeGhpr rejects points within a few micrometres of the viewpoint; the mapper must drop them.
   if (!(min_range_m >= 1e-5) || !std::isfinite(min_range_m)) {
     throw std::invalid_argument("OvpcMapper::Config: min_range_m must be >= 1e-5 m");
@@ -70,7 +71,7 @@ OvpcMap OvpcMapper::Update(const Points& points, const Vec3& viewpoint) const {
   map.timings.traversability_ms = MsSince(t);
 
   t = Clock::now();
-  map.cloud = BuildTraversabilityCloud(map.mesh);
+  map.cloud = BuildTraversabilityCloud(map.mesh, config_.vertex_normals);
   map.timings.vertex_cloud_ms = MsSince(t);
   map.timings.total_ms = MsSince(start);
   return map;

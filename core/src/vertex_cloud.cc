@@ -1,9 +1,13 @@
 #include "ovpc/core/vertex_cloud.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
 #include <stdexcept>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
 #include <nanoflann.hpp>
 
 namespace ovpc {
@@ -106,31 +110,116 @@ std::vector<int> TraversabilityCloud::InBox(const Eigen::Isometry3d& T_L_B, cons
   return out;
 }
 
-TraversabilityCloud BuildTraversabilityCloud(const FreeSpaceMesh& mesh) {
+void VertexNormals::Config::Validate() const {
+  if (rule != Rule::kMeanOfFaces && rule != Rule::kPlaneFit) {
+    throw std::invalid_argument("VertexNormals::Config: rule must be mean_of_faces or plane_fit");
+  }
+  if (!(radius_m > 0.0) || !std::isfinite(radius_m)) {
+    throw std::invalid_argument("VertexNormals::Config: radius_m must be > 0 m and finite, got " + std::to_string(radius_m));
+  }
+  if (max_patch_points < 4 || max_patch_points > 256) {
+    throw std::invalid_argument("VertexNormals::Config: max_patch_points must be in [4, 256], got " +
+                                std::to_string(max_patch_points));
+  }
+}
+
+namespace {
+
+// Fewer points than this keep the mean-of-faces normal: three points always span a plane, so a
+// patch of three says nothing about whether the surface is one (far away, where the visible points
+// thin out, three of them 0.2-0.5 m apart with 5 cm of noise make a plane tilted by tens of degrees).
+constexpr std::size_t kMinPatchPoints = 4;
+
+// The plane fitted over the patch of `p` (see VertexNormals::Rule::kPlaneFit); `own` (the
+// mean-of-faces normal) when the patch is not a plane. `patch` holds the patch's indices into
+// `points`, `to_viewpoint` is the line of sight from p.
+Vec3 PatchNormal(const Points& points, const Vec3& p, const Vec3& own, const Vec3& to_viewpoint,
+                 const std::uint32_t* patch, std::size_t n) {
+  if (n < kMinPatchPoints) return own;
+  // Covariance about the patch's mean, from offsets to p (p is in the patch, so they stay small).
+  Vec3 sum = Vec3::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 d = points[patch[k]] - p;
+    sum += d;
+    outer.noalias() += d * d.transpose();
+  }
+  const Vec3 mean = sum / static_cast<double>(n);
+  const Eigen::Matrix3d covariance = outer / static_cast<double>(n) - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(covariance);  // the closed form for a 3x3 matrix, no iterations
+  const Vec3& values = solver.eigenvalues();
+  if (solver.info() != Eigen::Success || !(values(0) < 0.25 * values(1))) return own;
+  Vec3 fitted = solver.eigenvectors().col(0);
+  const double norm = fitted.norm();
+  if (!(norm > 0.0) || !fitted.allFinite()) return own;
+  fitted /= norm;
+  // The free side: the mean-of-faces normal's where the two lines agree within 60 deg; else (at
+  // the rim of what was seen, where faces folding back to the far side outweigh the surface's own)
+  // the viewpoint's, since the mesh is star-shaped around it and every line of sight runs through
+  // free space. The line of sight alone would mislead at grazing angles, where the fit's own tilt
+  // can exceed the angle of view.
+  const double along_own = fitted.dot(own);
+  const double side = std::abs(along_own) >= 0.5 ? along_own : fitted.dot(to_viewpoint);
+  return side < 0.0 ? Vec3(-fitted) : fitted;
+}
+
+}  // namespace
+
+TraversabilityCloud BuildTraversabilityCloud(const FreeSpaceMesh& mesh, const VertexNormals::Config& config) {
+  config.Validate();
   const std::size_t n = mesh.num_visible();
   if (mesh.face_normals.size() != mesh.triangles.size() || mesh.face_traversable.size() != mesh.triangles.size()) {
     throw std::invalid_argument("BuildTraversabilityCloud: the mesh was not classified");
   }
-  std::vector<Vec3> normal_sum(n, Vec3::Zero());
-  std::vector<std::uint8_t> traversable(n, 1);
+  auto data = std::make_shared<TraversabilityCloud::Data>();
+  std::vector<Vec3>& normals = data->normals;
+  std::vector<std::uint8_t>& traversable = data->traversable;
+  normals.assign(n, Vec3::Zero());
+  traversable.assign(n, 1);
   std::vector<std::uint8_t> has_face(n, 0);
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     const bool observed = !mesh.TouchesViewpoint(f);
     for (int v : mesh.triangles[f]) {
       if (v == mesh.viewpoint_vertex) continue;
       has_face[v] = 1;
-      if (observed) normal_sum[v] += mesh.face_normals[f];
+      if (observed) normals[v] += mesh.face_normals[f];
       if (!mesh.face_traversable[f]) traversable[v] = 0;
     }
   }
-  std::vector<Vec3> normals(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double norm = normal_sum[i].norm();
-    normals[i] = norm > 0.0 ? Vec3(normal_sum[i] / norm) : Vec3::Zero();
+    const double norm = normals[i].norm();
+    normals[i] = norm > 0.0 ? Vec3(normals[i] / norm) : Vec3::Zero();
     if (!has_face[i] || norm == 0.0) traversable[i] = 0;
   }
-  Points points(mesh.vertices.begin(), mesh.vertices.begin() + static_cast<std::ptrdiff_t>(n));
-  return TraversabilityCloud(std::move(points), std::move(normals), std::move(traversable));
+  data->points.assign(mesh.vertices.begin(), mesh.vertices.begin() + static_cast<std::ptrdiff_t>(n));
+  data->adaptor.points = &data->points;
+  if (n == 0) return TraversabilityCloud(std::move(data));
+  data->tree = std::make_unique<TraversabilityCloud::Data::Tree>(3, data->adaptor,
+                                                                  nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  if (config.rule != VertexNormals::Rule::kPlaneFit) return TraversabilityCloud(std::move(data));
+
+  // Plane fits on the cloud's own k-d tree: a k-nearest search bounded by the radius (the result
+  // set's worst distance starts at radius^2, so the search prunes at the radius from the start),
+  // the points visited in the tree's leaf order so that consecutive patches share cache lines.
+  // The mean-of-faces normals are read (orientation, fallback) while the fitted ones are written.
+  const std::vector<Vec3> own = normals;
+  const auto k = static_cast<std::size_t>(config.max_patch_points);
+  std::vector<std::uint32_t> patch(k);
+  std::vector<double> dist2(k);
+  // Points at exactly the radius count: the search admits only distances below the worst one.
+  const double r2 = std::nextafter(config.radius_m * config.radius_m, std::numeric_limits<double>::infinity());
+  const nanoflann::SearchParams params(32, 0.0f, false);
+  for (const std::uint32_t i : data->tree->vAcc) {
+    if (own[i].isZero(0.0)) continue;  // no observed face: nothing to orient a fit by
+    const Vec3& p = data->points[i];
+    nanoflann::KNNResultSet<double, std::uint32_t> result(k);
+    result.init(patch.data(), dist2.data());
+    dist2[k - 1] = r2;  // the bound until k points are found
+    data->tree->findNeighbors(result, p.data(), params);
+    normals[i] = PatchNormal(data->points, p, own[i], mesh.viewpoint - p, patch.data(), result.size());
+  }
+  return TraversabilityCloud(std::move(data));
 }
 
 }  // namespace ovpc

@@ -10,6 +10,7 @@
 #include "ovpc/core/point_cloud_buffer.h"
 #include "ovpc/core/traversability.h"
 #include "ovpc/core/vehicle_model.h"
+#include "ovpc/core/vertex_cloud.h"
 #include "../support/config_fields_check.h"
 
 namespace ovpc {
@@ -83,6 +84,7 @@ TEST(ConfigFieldsTest, EveryCoreConfigDeclaresEveryMember) {
   EXPECT_TRUE(testing::AllFieldsDeclared<PointCloudBuffer::Config>());
   EXPECT_TRUE(testing::AllFieldsDeclared<Ghpr::Config>());
   EXPECT_TRUE(testing::AllFieldsDeclared<Traversability::Config>());
+  EXPECT_TRUE(testing::AllFieldsDeclared<VertexNormals::Config>());
   EXPECT_TRUE(testing::AllFieldsDeclared<OvpcMapper::Config>());
 }
 

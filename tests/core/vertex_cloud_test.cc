@@ -111,7 +111,9 @@ TEST(VertexCloudTest, NormalIsTheMeanOfAdjacentFacesAndFlagNeedsAllFaces) {
   ClassifyFaces(Traversability::Config{}, &mesh);
   ASSERT_EQ(mesh.face_traversable[0], 1);
   ASSERT_EQ(mesh.face_traversable[1], 0);
-  const TraversabilityCloud cloud = BuildTraversabilityCloud(mesh);
+  VertexNormals::Config mean_of_faces;
+  mean_of_faces.rule = VertexNormals::Rule::kMeanOfFaces;
+  const TraversabilityCloud cloud = BuildTraversabilityCloud(mesh, mean_of_faces);
   ASSERT_EQ(cloud.size(), 4u);
   const Vec3 expected = (mesh.face_normals[0] + mesh.face_normals[1]).normalized();
   EXPECT_TRUE(cloud.normals()[0].isApprox(expected, 1e-12));

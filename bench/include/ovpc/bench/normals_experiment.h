@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "ovpc/baselines/pca_normals.h"
@@ -112,6 +114,9 @@ struct NormalsTrial {
   /// OVPC: the visible points (mesh vertices); the others have no vertex normal and are not
   /// evaluated. A visible point whose faces all touch the viewpoint has no normal.
   MethodErrors ovpc;
+  /// With `other_normals` given: the same mesh's vertex normals under that rule, scored the same
+  /// way (its `ms` is BuildTraversabilityCloud's alone, the rest of the update being shared).
+  MethodErrors ovpc_other;
   MethodErrors pca;          ///< PCA on every point of the bundled cloud
   /// The same PCA errors restricted to OVPC's visible points (empty when OVPC's input was
   /// filtered: its points are then voxel centroids, not points of the cloud).
@@ -137,10 +142,17 @@ MethodErrors PointNormalErrors(const SlopeScene& scene, const baselines::PcaNorm
 
 /// One slope: builds the scene from `seed`, runs the OVPC update from the viewpoint (on the
 /// bundled cloud, or on its voxel-filtered version if `filter` says so) and the PCA estimator, and
-/// returns both methods' errors.
+/// returns both methods' errors; with `other_normals`, also the errors of the same mesh's vertex
+/// normals under that rule (NormalsTrial::ovpc_other).
 NormalsTrial RunNormalsTrial(double alpha_deg, const SlopeSceneConfig& scene_config,
                              const OvpcMapper& mapper, const NormalEstimator& pca,
-                             std::uint64_t seed, const OvpcInputFilter& filter = {});
+                             std::uint64_t seed, const OvpcInputFilter& filter = {},
+                             const VertexNormals::Config* other_normals = nullptr);
+
+/// The vertex-normal rules by their names in files, as VertexNormals::Config declares them.
+std::map<std::string, VertexNormals::Rule> VertexNormalRules();
+/// A rule's name in files ("?" for a value that is none of them).
+std::string VertexNormalRuleName(VertexNormals::Rule rule);
 
 /// The seed of trial `index` from the run's seed (SplitMix64 of both), so trials are independent
 /// and any one of them can be re-run alone.

@@ -25,6 +25,9 @@ struct FreeSpaceMesh {
   std::vector<Vec3> face_normals;       ///< unit normals into free space, one per triangle
   std::vector<std::uint8_t> face_traversable;  ///< 1 if the face passes the traversability test
   int viewpoint_vertex = -1;            ///< index of the viewpoint in `vertices`, or -1
+  /// The point the mesh was made from. The mesh is star-shaped around it, so every visible point
+  /// sees it through free space: the free side of the surface at a vertex is the viewpoint's side.
+  Vec3 viewpoint = Vec3::Zero();
 
   std::size_t num_visible() const {
     return vertices.size() - (viewpoint_vertex >= 0 ? 1 : 0);

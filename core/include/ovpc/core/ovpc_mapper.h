@@ -18,7 +18,7 @@ struct StageTimings {
   double hull_ms = 0.0;           ///< convex hull of the image set (CGAL, exact predicates)
   double mesh_ms = 0.0;           ///< hull back to a mesh on the original points
   double traversability_ms = 0.0; ///< face normals and flags
-  double vertex_cloud_ms = 0.0;   ///< vertex normals, flags and the k-d tree
+  double vertex_cloud_ms = 0.0;   ///< vertex normals (plane fits included), flags and the k-d tree
   double total_ms = 0.0;
 };
 
@@ -45,11 +45,13 @@ class OvpcMapper {
   struct Config {
     Ghpr::Config ghpr;
     Traversability::Config traversability;
+    VertexNormals::Config vertex_normals;
     double min_range_m = 1e-3;  ///< points closer to the viewpoint are dropped as "at the viewpoint" (>= 1e-5)
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
       v.Section(OVPC_FIELD(c, ghpr), "the paper's hidden point removal");
       v.Section(OVPC_FIELD(c, traversability), "the paper's face test");
+      v.Section(OVPC_FIELD(c, vertex_normals), "each visible point's normal");
       v.Field(OVPC_FIELD(c, min_range_m), "m", "closer points count as at the viewpoint");
     }
     /// @throws std::invalid_argument naming the offending field.
