@@ -580,11 +580,12 @@ TEST_F(CliTest, ASecondWriterOfAFolderIsRefused) {
 // SIGTERM and SIGINT stop the suite's runs (none is left running) and the suite still writes the
 // report of what finished, the rest as cancelled errors, and exits with 128 + the signal.
 TEST_F(CliTest, ASignalStopsTheRunsAndTheSuiteStillReports) {
-  std::string slow = testing::kShortFlatScenario;
-  slow.replace(slow.find("name: short_flat"), 16, "name: slow_flat");
-  slow.replace(slow.find("time_limit_s: 8"), 15, "time_limit_s: 300");
-  slow.replace(slow.find("[6, 0]]"), 7, "[15, 0], [15, 5], [0, 5], [0, 0]]");
-  WriteText("slow.yaml", slow);
+  // About 65 m of route with its goal at the end: no run ends by itself before the signal, even
+  // at ten times real time (a goal on the route's first leg was reached in under a second).
+  WriteText("slow.yaml",
+            "name: slow_flat\ntime_limit_s: 300\nterrain: {kind: flat, size_m: [40, 20]}\n"
+            "route: [[0, 0], [15, 0], [15, 5], [-15, 5], [-15, 0]]\n"
+            "criteria:\n  goal: {x_m: -15.0, y_m: 0.0, radius_m: 1.0}\n  no_collision: true\n");
   for (const auto& [sig, name] : {std::pair<int, std::string>{SIGTERM, "SIGTERM"}, {SIGINT, "SIGINT"}}) {
     const std::string out = Path("suite_" + name);
     const std::string suite = std::string(OVPC_CLI_PATH) + " suite " + Path("slow.yaml") + " --seeds 3 --jobs 2 --out " + out;
