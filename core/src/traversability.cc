@@ -64,19 +64,22 @@ void ClassifyFaces(const Traversability::Config& config, FreeSpaceMesh* mesh, co
     // Below the noise floor only faces looking down more than 60 deg (ceilings, the underside of a
     // roof) keep the angle test: folds of noisy ground stand on edge or lean over a little.
     bool flat_enough = cos_angle > cos_alpha_max || (spread < config.noise_floor_m && cos_angle > -0.5);
-    if (!flat_enough && cos_angle > 0.0 && !vertex_area_normal.empty()) {
-      // A sliver on a slope: its height spread includes the slope's rise, but its relief across the
-      // local surface around it is what the noise bends. If that surface passes the angle test and
-      // the face lies within the noise floor of it, the face's own tilt is noise.
+    bool low_step = spread < config.delta_h_max_m;
+    if ((!flat_enough || !low_step) && cos_angle > 0.0 && !vertex_area_normal.empty()) {
+      // A face on a slope: its height spread includes the slope's rise (a sliver tilted by noise, or
+      // a long face where the slope was seen sparsely, at a grazing angle), but its relief across the
+      // local surface around it is what a step or the noise makes. If that surface passes the angle
+      // test and the face lies within the noise floor of it, the face's tilt is noise and its height
+      // spread is the slope's, not a step's. At a curb or a drop the surface around bends with the
+      // step, so the face stands out of it by most of the step's height.
       const Vec3 local = vertex_area_normal[t[0]] + vertex_area_normal[t[1]] + vertex_area_normal[t[2]];
       const double local_norm = local.norm();
       if (local_norm > 0.0 && local.dot(up) > cos_alpha_max * local_norm) {
         const Vec3 n = local / local_norm;
         const double da = a.dot(n), db = b.dot(n), dc = c.dot(n);
-        flat_enough = std::max({da, db, dc}) - std::min({da, db, dc}) < config.noise_floor_m;
+        if (std::max({da, db, dc}) - std::min({da, db, dc}) < config.noise_floor_m) flat_enough = low_step = true;
       }
     }
-    const bool low_step = spread < config.delta_h_max_m;
     mesh->face_traversable[f] = (flat_enough && low_step && !mesh->TouchesViewpoint(f)) ? 1 : 0;
   }
 }

@@ -417,6 +417,7 @@ void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
   }
   in.distance_to_goal_m = state.goal_O ? (here_O - *state.goal_O).norm() : 0.0;
   in.goal_is_route_end = state.goal_is_route_end;
+  in.goal_is_look = state.goal_is_look;
   const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
   if (reason == planner::ReplanReason::kNone) return;
   job->record.trigger = planner::ReplanReasonName(reason);
@@ -552,6 +553,7 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
     state.last_goal_O->pose = c.frame.ToO(goal.pose);
     state.goal_O = Eigen::Vector2d(state.last_goal_O->pose.x_m, state.last_goal_O->pose.y_m);
     state.goal_is_route_end = goal.is_route_end;
+    state.goal_is_look = goal.is_look;
     return GoalTry::kTaken;
   }
   // A start the planner rejects is rejected for every goal.

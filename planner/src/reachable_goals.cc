@@ -171,10 +171,10 @@ bool ReachableGoals::Reach() {
   return true;
 }
 
-bool ReachableGoals::Qualifies(const Pose2& pose, bool is_end) const {
+bool ReachableGoals::Qualifies(const Pose2& pose, bool is_end, const VehicleBox* vehicle) const {
   if (!is_end && (Eigen::Vector2d(pose.x_m, pose.y_m) - here_).norm() < config_.min_distance_m) return false;
   if (!map_.IsKnownFree(pose.x_m, pose.y_m)) return false;
-  return !config_.require_vehicle_fit || CheckPose(map_, vehicle_, pose) == PoseCheck::kValid;
+  return !config_.require_vehicle_fit || CheckPose(map_, vehicle ? *vehicle : vehicle_, pose) == PoseCheck::kValid;
 }
 
 double ReachableGoals::OffRoute(const Eigen::Vector2d& p) const {
@@ -263,6 +263,7 @@ void ReachableGoals::AddBestCells(std::size_t max_count, std::vector<LocalGoal>*
   const int rim = static_cast<int>(std::ceil(kInteriorM / cell_));
   const int around = static_cast<int>(std::ceil(kHeadingM / cell_));
   std::size_t checked = 0;
+  bool look_open = config_.look_at_rim && goals->empty();
   for (std::size_t i : order_) {
     if (goals->size() >= max_count || checked >= kMaxChecked) break;
     const int ix = static_cast<int>(i % nx_), iy = static_cast<int>(i / nx_);
@@ -276,7 +277,35 @@ void ReachableGoals::AddBestCells(std::size_t max_count, std::vector<LocalGoal>*
     const double yaw = DownhillYaw(i, ix, iy, around);
     ++checked;
     const Pose2 pose{c.x(), c.y(), NormalizeYaw(yaw)};
-    if (Qualifies(pose, false)) goals->push_back({pose, std::max(0.0, route_length_ - to_go_[i]), false});
+    const double progress = std::max(0.0, route_length_ - to_go_[i]);
+    if (look_open) {
+      // The best place the vehicle fits may be nearer than min_distance_m: the map's seen ground
+      // ends just ahead (a crest, an edge). That place is a candidate too, to be looked from, in
+      // its turn among the farther ones (tried when they give no path: the places along a crest
+      // that are blocked on the next map). Taking it first, before them, passed descent_20 five
+      // times of ten, in its turn ten of ten (docs/notes/descents.md).
+      // The place fits with its wheels kLookMarginM short of the rim: the vehicle fits there moved
+      // that far ahead too, so the wheels stand on ground seen well, not on the rim's sparse points.
+      constexpr double kLookMarginM = 0.8;
+      const Pose2 ahead{pose.x_m + kLookMarginM * std::cos(pose.yaw_rad), pose.y_m + kLookMarginM * std::sin(pose.yaw_rad),
+                        pose.yaw_rad};
+      // There every wheel has seen ground beyond it (the edge test, kLookEdgeM): at a ditch or a
+      // drop the wheel-support radius alone would let a front wheel stand half a metre past the
+      // last seen ground.
+      constexpr double kLookEdgeM = 0.2;
+      VehicleBox careful = vehicle_;
+      careful.edge_tolerance_m = std::min(careful.edge_tolerance_m, kLookEdgeM);
+      if (Qualifies(pose, true) && Qualifies(ahead, true, &careful)) {
+        look_open = false;
+        if ((c - here_).norm() < config_.min_distance_m) {
+          LocalGoal look{pose, progress, false};
+          look.is_look = true;
+          goals->push_back(look);
+          continue;
+        }
+      }
+    }
+    if (Qualifies(pose, false)) goals->push_back({pose, progress, false});
   }
 }
 

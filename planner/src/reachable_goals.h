@@ -49,7 +49,7 @@ class ReachableGoals {
   void AddRouteEndOrPrevious(std::vector<LocalGoal>* goals) const;
   void AddBestCells(std::size_t max_count, std::vector<LocalGoal>* goals) const;
 
-  bool Qualifies(const Pose2& pose, bool is_end) const;
+  bool Qualifies(const Pose2& pose, bool is_end, const VehicleBox* vehicle = nullptr) const;
   double OffRoute(const Eigen::Vector2d& p) const;
   double CostAt(const Eigen::Vector2d& p, const std::vector<double>& field) const;
   bool Interior(int ix, int iy, int rim) const;

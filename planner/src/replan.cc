@@ -47,7 +47,7 @@ ReplanReason CheckReplan(const Replanning::Config& config, const ReplanInputs& i
        inputs.blocked_distance_m < config.blocked_near_m)) {
     return ReplanReason::kPathBlocked;
   }
-  if (!inputs.goal_is_route_end && inputs.distance_to_goal_m < config.goal_too_close_m) {
+  if (!inputs.goal_is_route_end && !inputs.goal_is_look && inputs.distance_to_goal_m < config.goal_too_close_m) {
     return ReplanReason::kGoalTooClose;
   }
   if (inputs.now_s - *inputs.last_plan_s >= config.period_s) return ReplanReason::kPeriodElapsed;

@@ -82,7 +82,7 @@ TEST(TraversabilityTest, NoiseFloorJudgesLowSliversByHeightAlone) {
 
 // A 0.2 m grid on a plane rising along +x at `slope_deg`, each vertex moved along z by up to
 // +-`noise_m` (a fixed pseudo-random pattern), triangulated with normals facing up.
-FreeSpaceMesh NoisySlope(double slope_deg, double noise_m) {
+FreeSpaceMesh NoisySlope(double slope_deg, double noise_m, double spacing_m = 0.2) {
   FreeSpaceMesh mesh;
   constexpr int kN = 21;
   std::uint32_t state = 12345;
@@ -92,7 +92,7 @@ FreeSpaceMesh NoisySlope(double slope_deg, double noise_m) {
   };
   for (int i = 0; i < kN; ++i) {
     for (int j = 0; j < kN; ++j) {
-      const double x = 0.2 * i, y = 0.2 * j;
+      const double x = spacing_m * i, y = spacing_m * j;
       mesh.vertices.emplace_back(x, y, x * std::tan(DegToRad(slope_deg)) + noise_m * next());
       mesh.source_index.push_back(static_cast<int>(mesh.source_index.size()));
     }
@@ -152,6 +152,40 @@ TEST(TraversabilityTest, NoiseFloorOnASlopeJudgesSliversAgainstTheLocalSurface) 
     const bool spans_step = (step.vertices[t[0]].x() < 2.05) != (step.vertices[t[1]].x() < 2.05) ||
                             (step.vertices[t[0]].x() < 2.05) != (step.vertices[t[2]].x() < 2.05);
     EXPECT_EQ(step.face_traversable[f], spans_step ? 0 : 1) << f;
+  }
+}
+
+// A slope seen sparsely (at a grazing angle, below a crest): faces 1 m long rise up to 0.5 m on a
+// 20 deg ramp, over the paper's 25 cm step, yet they lie in the ramp's surface. With the noise floor
+// on slopes they are judged by their relief across the local surface and are traversable; a 0.3 m
+// step seen as sparsely (a curb, the lip of a drop) still stands out of the surface around it, and a
+// sparse 35 deg slope still fails the angle test.
+TEST(TraversabilityTest, ASparselySeenRampIsNotAStepAndASparselySeenStepIs) {
+  Traversability::Config paper;
+  Traversability::Config noisy;
+  noisy.noise_floor_m = 0.05;
+  noisy.noise_floor_on_slopes = true;
+  FreeSpaceMesh ramp = NoisySlope(20.0, 0.01, 1.0);
+  const int faces = static_cast<int>(ramp.triangles.size());
+  ClassifyFaces(paper, &ramp);
+  EXPECT_EQ(CountTraversable(ramp), 0) << "every face rises more than 25 cm";
+  ClassifyFaces(noisy, &ramp);
+  EXPECT_EQ(CountTraversable(ramp), faces);
+
+  FreeSpaceMesh steep = NoisySlope(35.0, 0.01, 1.0);
+  ClassifyFaces(noisy, &steep);
+  EXPECT_EQ(CountTraversable(steep), 0);
+
+  FreeSpaceMesh curb = NoisySlope(0.0, 0.01, 1.0);
+  for (Vec3& v : curb.vertices) {
+    if (v.x() > 10.5) v.z() += 0.3;
+  }
+  ClassifyFaces(noisy, &curb);
+  for (std::size_t f = 0; f < curb.triangles.size(); ++f) {
+    const auto& t = curb.triangles[f];
+    const bool spans_step = (curb.vertices[t[0]].x() < 10.5) != (curb.vertices[t[1]].x() < 10.5) ||
+                            (curb.vertices[t[0]].x() < 10.5) != (curb.vertices[t[2]].x() < 10.5);
+    EXPECT_EQ(curb.face_traversable[f], spans_step ? 0 : 1) << f;
   }
 }
 

@@ -217,6 +217,7 @@ class Navigator {
     std::optional<Eigen::Vector2d> goal_O;          // the local goal the current path leads to
     std::optional<planner::LocalGoal> last_goal_O;  // kept for the next goal selection
     bool goal_is_route_end = false;
+    bool goal_is_look = false;      // the goal is a place to look from at a rim
     std::optional<double> last_plan_s;
     int blocked_updates = 0;                        // map cycles in a row that found the path blocked
   };

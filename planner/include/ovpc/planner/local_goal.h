@@ -92,6 +92,11 @@ struct LocalGoalSelection {
     /// by leg, never cut across to its way back. A corner cut short strays less. Infinite: no such
     /// limit (the paper's rule).
     double max_detour_m = std::numeric_limits<double>::infinity();
+    /// kReachable: when the best place the vehicle fits is nearer than min_distance_m (seen ground
+    /// ends just ahead: a crest, an edge), it is a candidate too (LocalGoal::is_look), so that the
+    /// vehicle can drive up to the rim and look over it. False: min_distance_m always holds (the
+    /// paper's rule).
+    bool look_at_rim = false;
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
       v.Choice(OVPC_FIELD(c, mode), Choices<Mode>{{"route", Mode::kRoute}, {"reachable", Mode::kReachable}},
@@ -111,6 +116,7 @@ struct LocalGoalSelection {
       v.Field(OVPC_FIELD(c, max_gap_m), "m", "candidates end past a longer gap in known space; inf: paper");
       v.Field(OVPC_FIELD(c, max_ahead_m), "m", "candidates up to this far ahead along the route; inf: paper");
       v.Field(OVPC_FIELD(c, max_detour_m), "m", "the route up to a candidate strays at most this far from the chord; inf: paper");
+      v.Field(OVPC_FIELD(c, look_at_rim), "", "reachable: a nearer best place at the rim of seen ground is the goal");
     }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
@@ -122,6 +128,9 @@ struct LocalGoal {
   double route_progress_m = 0; ///< distance along the route from its first waypoint
   bool is_route_end = false;   ///< the goal is the route's last waypoint
   double lateral_offset_m = 0; ///< kRoute: distance beside the route (left positive), 0 on it
+  /// kReachable: the best place is nearer than min_distance_m, at the rim of what the map has seen
+  /// (a crest, an edge, a shadow): the vehicle goes there and looks before it goes on.
+  bool is_look = false;
 };
 
 /// The farthest point along the route, ahead of the vehicle, that is inside known free space and

@@ -58,6 +58,7 @@ struct ReplanInputs {
   bool blocked_by_unseen_ground = false;  ///< that pose fails for want of seen ground, not an obstacle
   double distance_to_goal_m = 0.0;     ///< vehicle to the current local goal
   bool goal_is_route_end = false;      ///< the local goal is the end of the route
+  bool goal_is_look = false;           ///< the local goal is a place to look from (LocalGoal::is_look)
 };
 
 /// The first reason that applies, in the order of the enum; kNone if the current path stands.
