@@ -28,6 +28,8 @@ void BoxRules::Validate() const {
   RequireNonNegative(ground_clearance_m, "ground_clearance_m");
   RequireNonNegative(footprint_depth_m, "footprint_depth_m");
   RequirePositive(wheel_support_m, "wheel_support_m");
+  RequireNonNegative(wheel_support_per_m, "wheel_support_per_m");
+  RequirePositive(wheel_support_near_m, "wheel_support_near_m");
   if (!(edge_tolerance_m >= 0.0)) {
     throw std::invalid_argument("VehicleBox: edge_tolerance_m must be >= 0 (infinite: off), got " + std::to_string(edge_tolerance_m));
   }

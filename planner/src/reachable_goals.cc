@@ -293,8 +293,10 @@ void ReachableGoals::AddBestCells(std::size_t max_count, std::vector<LocalGoal>*
       // drop the wheel-support radius alone would let a front wheel stand half a metre past the
       // last seen ground.
       constexpr double kLookEdgeM = 0.2;
+      constexpr double kLookSupportM = 0.25;
       VehicleBox careful = vehicle_;
       careful.edge_tolerance_m = std::min(careful.edge_tolerance_m, kLookEdgeM);
+      careful.wheel_support_m = std::min(careful.wheel_support_m, kLookSupportM);
       if (Qualifies(pose, true) && Qualifies(ahead, true, &careful)) {
         look_open = false;
         if ((c - here_).norm() < config_.min_distance_m) {

@@ -257,7 +257,8 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
       const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
       if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;  // where the vehicle stands
       const auto nearest = cloud_.Nearest(contact);
-      if (!nearest || nearest->distance_m > vehicle.wheel_support_m || !cloud_.traversable()[nearest->index]) {
+      const double support_m = vehicle.WheelSupportAt(contact.head<2>().norm());
+      if (!nearest || nearest->distance_m > support_m || !cloud_.traversable()[nearest->index]) {
         return PoseCheck::kGroundUnderFootprint;
       }
       if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {

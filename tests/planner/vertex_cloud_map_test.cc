@@ -157,6 +157,32 @@ TEST(VertexCloudMapTest, EdgeToleranceKeepsTheWheelsOffGroundPastTheLastSeen) {
   EXPECT_THROW(careful.Validate(), std::invalid_argument);
 }
 
+// With wheel_support_per_m the support radius follows the spacing of the visible points: seen ground
+// that ends 0.3 m short of the front wheels carries them 6 m from the sensor (0.3 m there), not 2 m
+// from it, where the points are dense and a wheel that far past them stands over an edge.
+TEST(VertexCloudMapTest, WheelSupportGrowsWithTheDistanceFromTheSensor) {
+  VehicleBox fixed;
+  fixed.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  VehicleBox growing = fixed;
+  growing.wheel_support_per_m = 0.05;
+  growing.wheel_support_near_m = 0.2;
+  EXPECT_DOUBLE_EQ(growing.WheelSupportAt(1.0), 0.2);
+  EXPECT_DOUBLE_EQ(growing.WheelSupportAt(6.0), 0.3);
+  EXPECT_DOUBLE_EQ(growing.WheelSupportAt(50.0), fixed.wheel_support_m);
+  EXPECT_DOUBLE_EQ(fixed.WheelSupportAt(1.0), fixed.wheel_support_m);
+  const auto none = [](double, double) { return false; };
+  const Pose2 near_pose{0.0, 0.0, 0.0};  // front wheels at (1.9, +-0.6), 2.0 m from the sensor
+  const VertexCloudMap near_edge = FlatGround(none, [](double x, double) { return x > 1.65; });
+  EXPECT_EQ(CheckPose(near_edge, fixed, near_pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(near_edge, growing, near_pose), PoseCheck::kGroundUnderFootprint);
+  const Pose2 far_pose{4.1, 0.0, 0.0};  // front wheels at (6.0, +-0.6), 6.03 m from the sensor
+  const VertexCloudMap far_edge = FlatGround(none, [](double x, double) { return x > 5.75; });
+  EXPECT_EQ(CheckPose(far_edge, fixed, far_pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(far_edge, growing, far_pose), PoseCheck::kValid);
+  growing.wheel_support_per_m = -0.01;
+  EXPECT_THROW(growing.Validate(), std::invalid_argument);
+}
+
 // The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
 // there; obstacles in the box still block, and wheels outside the region still need support.
 TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {

@@ -1,6 +1,7 @@
 // The narrow map interface the planner sees, the vehicle box, and the state validity rule.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <optional>
@@ -28,6 +29,13 @@ struct BoxRules {
   };
   FootprintCheck footprint_check = FootprintCheck::kAllPoints;
   double wheel_support_m = 0.5;      ///< farthest a wheel may be from its nearest visible point (kWheels)
+  /// kWheels: the support radius grows with the wheel's distance from the sensor (the map frame's
+  /// origin, in the plane), as the spacing of the visible points does: min(wheel_support_m,
+  /// max(wheel_support_near_m, wheel_support_per_m x distance)). Near the sensor, where the points
+  /// are dense, a wheel half a metre past the last seen ground (over the edge of a ditch or a drop)
+  /// is not supported. 0: wheel_support_m everywhere (the library's rule).
+  double wheel_support_per_m = 0.0;
+  double wheel_support_near_m = 0.2;  ///< the support radius close to the sensor (wheel_support_per_m)
   /// kWheels: a wheel whose nearest visible point is farther than this must also have traversable
   /// seen ground beyond it, as seen from the sensor (a point within wheel_support_m at least as far
   /// from the viewpoint, in the plane): a wheel may not stand past the last seen ground, over an
@@ -57,12 +65,19 @@ struct BoxRules {
              Choices<FootprintCheck>{{"all_points", FootprintCheck::kAllPoints}, {"wheels", FootprintCheck::kWheels}},
              "what must hold for the ground under the box; all_points: paper");
     v.Field(OVPC_FIELD(c, wheel_support_m), "m", "wheels: farthest a wheel may be from a visible point");
+    v.Field(OVPC_FIELD(c, wheel_support_per_m), "m/m", "wheels: the support radius per metre from the sensor; 0: off");
+    v.Field(OVPC_FIELD(c, wheel_support_near_m), "m", "wheels: ... and at least this");
     v.Field(OVPC_FIELD(c, edge_tolerance_m), "m", "wheels: farther needs seen ground beyond; inf: off");
     v.Choice(OVPC_FIELD(c, placement),
              Choices<Placement>{{"nearest_point", Placement::kNearestPoint}, {"wheel_contacts", Placement::kWheelContacts}},
              "how the box is placed on the ground; nearest_point: paper");
     v.Field(OVPC_FIELD(c, max_tilt_deg), "deg", "wheel_contacts: steepest plane through the wheels");
     v.Field(OVPC_FIELD(c, max_roll_deg), "deg", "the placed box's roll; 90: no limit (paper)");
+  }
+  /// The support radius of a wheel whose contact point lies `distance_m` from the sensor in the plane.
+  double WheelSupportAt(double distance_m) const {
+    if (!(wheel_support_per_m > 0.0)) return wheel_support_m;
+    return std::min(wheel_support_m, std::max(wheel_support_near_m, wheel_support_per_m * distance_m));
   }
   /// @throws std::invalid_argument naming the offending field.
   void Validate() const;
