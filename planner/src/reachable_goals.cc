@@ -177,6 +177,21 @@ bool ReachableGoals::Qualifies(const Pose2& pose, bool is_end, const VehicleBox*
   return !config_.require_vehicle_fit || CheckPose(map_, vehicle ? *vehicle : vehicle_, pose) == PoseCheck::kValid;
 }
 
+// The ground under the front wheels of `pose`, by the map's plane fit over its neighbourhood
+// (PlanningMap::ProjectForBox), slopes at most max_tilt_deg: a look does not put the front wheels on
+// a face that a noisy face test lets through at its top, where the fit over a patch sees its slope.
+bool ReachableGoals::FrontOnSlopeWithinTilt(const Pose2& pose) const {
+  const double cos_max = std::cos(vehicle_.max_tilt_deg * kPi / 180.0);
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  for (double side : {-0.5 * vehicle_.track_m, 0.5 * vehicle_.track_m}) {
+    const Pose2 wheel{pose.x_m + vehicle_.wheelbase_m * c - side * s, pose.y_m + vehicle_.wheelbase_m * s + side * c,
+                      pose.yaw_rad};
+    const std::optional<GroundPose> ground = map_.ProjectForBox(wheel);
+    if (!ground || ground->T_L_B.linear()(2, 2) < cos_max) return false;
+  }
+  return true;
+}
+
 double ReachableGoals::OffRoute(const Eigen::Vector2d& p) const {
   double best = kInf;
   for (const Eigen::Vector2d& r : route_ahead_) best = std::min(best, (r - p).squaredNorm());
@@ -289,17 +304,25 @@ void ReachableGoals::AddBestCells(std::size_t max_count, std::vector<LocalGoal>*
       constexpr double kLookMarginM = 0.8;
       const Pose2 ahead{pose.x_m + kLookMarginM * std::cos(pose.yaw_rad), pose.y_m + kLookMarginM * std::sin(pose.yaw_rad),
                         pose.yaw_rad};
-      // There every wheel has seen ground beyond it (the edge test, kLookEdgeM): at a ditch or a
-      // drop the wheel-support radius alone would let a front wheel stand half a metre past the
-      // last seen ground.
+      // There every wheel has seen ground beyond it (the edge test, kLookEdgeM) and a visible point
+      // within kLookSupportM: at a ditch or a drop the wheel-support radius alone would let a front
+      // wheel stand half a metre past the last seen ground. The front wheels' ground, by a plane
+      // fitted over their neighbourhood, slopes within max_tilt_deg: a steep face seen sparsely,
+      // whose top faces a noisy face test lets through, put a front wheel 0.38 m onto a 33 degree
+      // face (docs/notes/descents.md).
       constexpr double kLookEdgeM = 0.2;
       constexpr double kLookSupportM = 0.25;
       VehicleBox careful = vehicle_;
       careful.edge_tolerance_m = std::min(careful.edge_tolerance_m, kLookEdgeM);
       careful.wheel_support_m = std::min(careful.wheel_support_m, kLookSupportM);
-      if (Qualifies(pose, true) && Qualifies(ahead, true, &careful)) {
+      if (Qualifies(pose, true) && Qualifies(ahead, true, &careful) && FrontOnSlopeWithinTilt(ahead)) {
         look_open = false;
-        if ((c - here_).norm() < config_.min_distance_m) {
+        // Within kLookReachedM the vehicle is there already: it looks by standing, and a goal that
+        // near at another heading would only make it manoeuvre at the rim.
+        constexpr double kLookReachedM = 1.0;
+        const double away = (c - here_).norm();
+        if (away < config_.min_distance_m) {
+          if (away < kLookReachedM) continue;
           LocalGoal look{pose, progress, false};
           look.is_look = true;
           goals->push_back(look);

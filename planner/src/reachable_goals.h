@@ -50,6 +50,7 @@ class ReachableGoals {
   void AddBestCells(std::size_t max_count, std::vector<LocalGoal>* goals) const;
 
   bool Qualifies(const Pose2& pose, bool is_end, const VehicleBox* vehicle = nullptr) const;
+  bool FrontOnSlopeWithinTilt(const Pose2& pose) const;
   double OffRoute(const Eigen::Vector2d& p) const;
   double CostAt(const Eigen::Vector2d& p, const std::vector<double>& field) const;
   bool Interior(int ix, int iy, int rim) const;

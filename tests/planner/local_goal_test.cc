@@ -417,20 +417,20 @@ TEST(LocalGoalTest, ReachableGoalTakesTheWayRoundAWallTheRouteRunsInto) {
 // At the rim of what the map has seen, straight ahead (a crest, an edge), the best place the vehicle
 // fits is nearer than min_distance_m. Without look_at_rim every goal keeps that distance, so none is
 // ahead of the vehicle; with it that place is a candidate too, pulled back so that the vehicle would
-// fit 0.8 m farther on, and marked as a place to look from.
+// fit 0.8 m farther on, and marked as a place to look from, unless the vehicle is within 1 m of it.
 TEST(LocalGoalTest, ReachableGoalLooksOverTheRimStraightAhead) {
   const VehicleBox vehicle;
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {40.0, 0.0}};
   const auto last_fit = SelectLocalGoal(FlatMap(), vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalSelection::Config{});
   ASSERT_TRUE(last_fit.has_value());
-  const Pose2 here{last_fit->pose.x_m - 1.5, 0.0, 0.0};
+  const Pose2 here{last_fit->pose.x_m - 2.45, 0.0, 0.0};
   LocalGoalSelection::Config config;
   config.mode = LocalGoalSelection::Config::Mode::kReachable;
-  config.min_distance_m = 2.5;
+  config.min_distance_m = 4.0;
   const auto plain = SelectLocalGoals(FlatMap(), vehicle, route, kIdentity, here, config, std::nullopt, 3);
   for (const LocalGoal& g : plain) {
     EXPECT_FALSE(g.is_look);
-    EXPECT_GE(std::hypot(g.pose.x_m - here.x_m, g.pose.y_m - here.y_m), 2.5);
+    EXPECT_GE(std::hypot(g.pose.x_m - here.x_m, g.pose.y_m - here.y_m), config.min_distance_m);
   }
   config.look_at_rim = true;
   const auto look = SelectLocalGoals(FlatMap(), vehicle, route, kIdentity, here, config, std::nullopt, 3);
@@ -438,14 +438,21 @@ TEST(LocalGoalTest, ReachableGoalLooksOverTheRimStraightAhead) {
   ASSERT_NE(it, look.end()) << "a place to look from among the candidates";
   EXPECT_EQ(std::count_if(look.begin(), look.end(), [](const LocalGoal& l) { return l.is_look; }), 1);
   const LocalGoal& g = *it;
-  EXPECT_LT(std::hypot(g.pose.x_m - here.x_m, g.pose.y_m - here.y_m), 2.5);
+  EXPECT_LT(std::hypot(g.pose.x_m - here.x_m, g.pose.y_m - here.y_m), config.min_distance_m);
   EXPECT_LT(std::abs(g.pose.y_m), 0.5);
   EXPECT_LT(std::abs(NormalizeYaw(g.pose.yaw_rad)), 0.5);
   EXPECT_GT(g.pose.x_m, here.x_m) << "ahead, at the rim";
   EXPECT_EQ(CheckPose(FlatMap(), vehicle, Pose2{g.pose.x_m + 0.8, g.pose.y_m, g.pose.yaw_rad}), PoseCheck::kValid)
       << "the vehicle fits 0.8 m farther on too";
   for (const LocalGoal& l : look) {
-    if (!l.is_look) EXPECT_GE(std::hypot(l.pose.x_m - here.x_m, l.pose.y_m - here.y_m), 2.5);
+    if (!l.is_look) {
+      EXPECT_GE(std::hypot(l.pose.x_m - here.x_m, l.pose.y_m - here.y_m), config.min_distance_m);
+    }
+  }
+  // Standing within 1 m of that place, the vehicle looks from where it is: no place to look from.
+  const Pose2 there{g.pose.x_m - 0.6, 0.0, 0.0};
+  for (const LocalGoal& l : SelectLocalGoals(FlatMap(), vehicle, route, kIdentity, there, config, std::nullopt, 3)) {
+    EXPECT_FALSE(l.is_look);
   }
 }
 
