@@ -423,6 +423,9 @@ TEST(LocalGoalTest, ReachableGoalLooksOverTheRimStraightAhead) {
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {40.0, 0.0}};
   const auto last_fit = SelectLocalGoal(FlatMap(), vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalSelection::Config{});
   ASSERT_TRUE(last_fit.has_value());
+  // From 2.45 m short of the last fit the place to look from (0.5 m cells, pulled back so that the
+  // vehicle also fits 0.8 m on) lies about 1.2 m ahead: beyond the 1 m within which the vehicle looks
+  // by standing, and nearer than min_distance_m, which keeps the plain goals' cells farther out.
   const Pose2 here{last_fit->pose.x_m - 2.45, 0.0, 0.0};
   LocalGoalSelection::Config config;
   config.mode = LocalGoalSelection::Config::Mode::kReachable;
