@@ -39,6 +39,9 @@ void BoxRules::Validate() const {
   if (!(max_roll_deg > 0.0 && max_roll_deg <= 90.0)) {
     throw std::invalid_argument("VehicleBox: max_roll_deg must be in (0, 90], got " + std::to_string(max_roll_deg));
   }
+  if (!(max_nose_down_deg > 0.0 && max_nose_down_deg <= 90.0)) {
+    throw std::invalid_argument("VehicleBox: max_nose_down_deg must be in (0, 90], got " + std::to_string(max_nose_down_deg));
+  }
 }
 
 VehicleBox VehicleBox::Of(const VehicleModel& vehicle, const BoxRules& rules) {
@@ -147,18 +150,20 @@ PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pos
   const std::optional<GroundPose> ground = on_wheels ? map.Project(pose) : map.ProjectForBox(pose);
   if (!ground) return PoseCheck::kOutsideMap;
   if (!ground->traversable) return PoseCheck::kNotTraversable;
-  // The box's y axis rises by sin(roll) from level.
-  const auto rolls_too_far = [&vehicle](const GroundPose& g) {
-    return vehicle.max_roll_deg < 90.0 && std::abs(g.T_L_B.linear()(2, 1)) > std::sin(vehicle.max_roll_deg * kPi / 180.0);
+  // The box's y axis rises by sin(roll) from level; its x axis (the nose) sinks by sin(pitch) facing
+  // down a slope.
+  const auto tilts_too_far = [&vehicle](const GroundPose& g) {
+    return (vehicle.max_roll_deg < 90.0 && std::abs(g.T_L_B.linear()(2, 1)) > std::sin(vehicle.max_roll_deg * kPi / 180.0)) ||
+           (vehicle.max_nose_down_deg < 90.0 && -g.T_L_B.linear()(2, 0) > std::sin(vehicle.max_nose_down_deg * kPi / 180.0));
   };
   if (on_wheels) {
     const std::optional<GroundPose> placed = PlaceOnWheels(map, vehicle, pose, *ground);
     if (!placed) return PoseCheck::kGroundUnderFootprint;  // a wheel over unknown ground
     if (placed->T_L_B.linear()(2, 2) < std::cos(vehicle.max_tilt_deg * kPi / 180.0)) return PoseCheck::kNotTraversable;
-    if (rolls_too_far(*placed)) return PoseCheck::kNotTraversable;
+    if (tilts_too_far(*placed)) return PoseCheck::kNotTraversable;
     return map.CheckBox(*placed, vehicle);
   }
-  if (rolls_too_far(*ground)) return PoseCheck::kNotTraversable;
+  if (tilts_too_far(*ground)) return PoseCheck::kNotTraversable;
   return map.CheckBox(*ground, vehicle);
 }
 

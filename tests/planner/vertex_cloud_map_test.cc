@@ -355,6 +355,38 @@ TEST(VertexCloudMapTest, RollLimitKeepsTheVehicleNearTheFallLineOnARamp) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// On a 25 deg ramp, max_nose_down_deg 22 refuses the vehicle facing down it (straight down, and 20 deg
+// off the fall line: 23.7 deg of pitch) but not facing up it, across it (0 deg of pitch) or 60 deg off
+// the fall line (13.1 deg), whichever placement; on a 15 deg ramp facing down passes. Without the limit (90, the default) every heading
+// passes.
+TEST(VertexCloudMapTest, NoseDownLimitRefusesFacingDownASteepSlopeOnly) {
+  const PlanningScene steep = LongRamp(25.0, -3.6);
+  const PlanningScene gentle = LongRamp(15.0, -3.6);
+  for (const auto placement : {VehicleBox::Placement::kNearestPoint, VehicleBox::Placement::kWheelContacts}) {
+    VehicleBox free_pitch;
+    free_pitch.footprint_check = VehicleBox::FootprintCheck::kWheels;
+    free_pitch.placement = placement;
+    free_pitch.ground_clearance_m = 0.35;
+    VehicleBox limited = free_pitch;
+    limited.max_nose_down_deg = 22.0;
+    struct Case {
+      double yaw_deg;
+      bool down;
+    };
+    for (const Case c : {Case{0.0, false}, Case{90.0, false}, Case{-90.0, false}, Case{180.0, true}, Case{160.0, true}, Case{120.0, false}}) {
+      const Pose2 pose{2.0, 0.0, DegToRad(c.yaw_deg)};
+      EXPECT_EQ(CheckPose(*steep.map, free_pitch, pose), PoseCheck::kValid) << c.yaw_deg;
+      EXPECT_EQ(CheckPose(*steep.map, limited, pose), c.down ? PoseCheck::kNotTraversable : PoseCheck::kValid) << c.yaw_deg;
+      EXPECT_EQ(CheckPose(*gentle.map, limited, pose), PoseCheck::kValid) << c.yaw_deg;
+    }
+  }
+  VehicleBox bad;
+  bad.max_nose_down_deg = 0.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+  bad.max_nose_down_deg = 90.5;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 // Flat ground 0.1 m apart with 1.5 cm of height noise, whose vertex normals are tilted by up to
 // ~17 degrees at random (as range noise tilts a mesh's small faces): on the nearest point's own
 // normal the 3 m box tilts, flat ground near its ends rises above the ground clearance, and poses

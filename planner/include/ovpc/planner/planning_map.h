@@ -56,6 +56,13 @@ struct BoxRules {
   /// across a slope within alpha_max the vehicle can still roll further than it safely may. 90: no
   /// limit (the paper's rule).
   double max_roll_deg = 90.0;
+  /// The placed box's nose may point down a slope (its x axis sink below level) at most this much,
+  /// whatever the placement: a vehicle braked and driven by its rear wheels alone, facing down a
+  /// slope, carries its weight on the front wheels and can neither hold its speed going down nor
+  /// back up: atan(mu b / (L + mu h)) for friction mu, the centre of mass b behind the front axle and
+  /// h above the ground, wheelbase L. Facing up the same slope it can do both (it backs down). 90: no
+  /// limit (the paper's rule).
+  double max_nose_down_deg = 90.0;
   template <class C, class V>
   static void VisitFields(C& c, V& v) {
     v.Field(OVPC_FIELD(c, margin_m), "m", "added to every side and to the top");
@@ -73,6 +80,7 @@ struct BoxRules {
              "how the box is placed on the ground; nearest_point: paper");
     v.Field(OVPC_FIELD(c, max_tilt_deg), "deg", "wheel_contacts: steepest plane through the wheels");
     v.Field(OVPC_FIELD(c, max_roll_deg), "deg", "the placed box's roll; 90: no limit (paper)");
+    v.Field(OVPC_FIELD(c, max_nose_down_deg), "deg", "the placed box's nose-down pitch; 90: no limit (paper)");
   }
   /// The support radius of a wheel whose contact point lies `distance_m` from the sensor in the plane.
   double WheelSupportAt(double distance_m) const {
