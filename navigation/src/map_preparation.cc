@@ -169,6 +169,7 @@ void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const FootprintBox& box, 
   const double kStep = config.footprint_grid_m;
   const double reach = std::max(kStep, blend_m);
   const double g = margin_m + config.footprint_edge_band_m;
+  const double grid_x1 = std::min(x1 + margin_m, box.ground_max_x_m);  // the grid's front end
   const Eigen::Isometry3d T_B_L = T_L_B.inverse();
   std::vector<Vec3> low_B;  // kFill: measured ground near the grid, in B
   points_L->erase(std::remove_if(points_L->begin(), points_L->end(),
@@ -177,17 +178,18 @@ void AddFootprintPrior(const Eigen::Isometry3d& T_L_B, const FootprintBox& box, 
                                    if (p.z() >= top_m) return false;
                                    const bool low = p.z() < ground_band_m;
                                    if (low && fill) {
-                                     if (p.x() >= x0 - margin_m - reach && p.x() <= x1 + margin_m + reach &&
+                                     if (p.x() >= x0 - margin_m - reach && p.x() <= grid_x1 + reach &&
                                          p.y() >= y0 - margin_m - reach && p.y() <= y1 + margin_m + reach) {
                                        low_B.push_back(p);
                                      }
                                      return false;
                                    }
                                    const double m = low ? g : body_margin_m;
-                                   return p.x() >= x0 - m && p.x() <= x1 + m && p.y() >= y0 - m && p.y() <= y1 + m;
+                                   const double front = low ? grid_x1 + config.footprint_edge_band_m : x1 + m;
+                                   return p.x() >= x0 - m && p.x() <= front && p.y() >= y0 - m && p.y() <= y1 + m;
                                  }),
                   points_L->end());
-  for (double x = x0 - margin_m; x <= x1 + margin_m + 1e-9; x += kStep) {
+  for (double x = x0 - margin_m; x <= grid_x1 + 1e-9; x += kStep) {
     for (double y = y0 - margin_m; y <= y1 + margin_m + 1e-9; y += kStep) {
       // Nearest measured ground and, when blending, the inverse-distance mean height of that within
       // `reach`.

@@ -15,6 +15,10 @@
 namespace ovpc::navigation {
 namespace {
 
+// A wheel's contact patch along the ground: how far ahead of the front wheels the ground the vehicle
+// stands on reaches (SupportRegion::crest_from_x_m).
+constexpr double kContactPatchM = 0.1;
+
 using ovpc::internal::Clock;
 using ovpc::internal::MsSince;
 using ovpc::internal::ThreadCpuMs;
@@ -341,6 +345,8 @@ PointCloudBuffer::LocalCloud Navigator::PrepareCloud(const Job& job) {
     footprint.body_margin_m = box.margin_m + prep.body_margin_m;
     footprint.ground_band_m = box.ground_clearance_m;
     footprint.top_m = box.height_m + box.margin_m + 0.05;
+    // With the crest test, the grid ends at the front wheels' contact patch (FootprintBox::ground_max_x_m).
+    if (box.crest_margin_m >= 0.0) footprint.ground_max_x_m = box.wheelbase_m + kContactPatchM;
     AddFootprintPrior(cloud.T_O_L.inverse() * job.T_O_B, footprint, prep, &cloud.points_L);
   }
   return cloud;
@@ -371,6 +377,7 @@ void Navigator::MapCycle(Job* job) {
     context.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
     context.known_support.max_x_m = box.centre_ahead_m + 0.5 * box.length_m + grow;
     context.known_support.half_width_m = 0.5 * box.width_m + grow;
+    context.known_support.crest_from_x_m = box.wheelbase_m + kContactPatchM;
   }
   t = Clock::now();
   cpu = ThreadCpuMs();
@@ -385,6 +392,7 @@ void Navigator::MapCycle(Job* job) {
   job->T_L_B = c.T_L_B;
   c.map = job->map.get();
   job->planned = true;
+
 
   t = Clock::now();
   cpu = ThreadCpuMs();

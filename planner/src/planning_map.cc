@@ -33,6 +33,9 @@ void BoxRules::Validate() const {
   if (!(edge_tolerance_m >= 0.0)) {
     throw std::invalid_argument("VehicleBox: edge_tolerance_m must be >= 0 (infinite: off), got " + std::to_string(edge_tolerance_m));
   }
+  if (!std::isfinite(crest_margin_m)) throw std::invalid_argument("VehicleBox: crest_margin_m must be finite (negative: off)");
+  RequirePositive(crest_drop_m, "crest_drop_m");
+  RequirePositive(crest_step_m, "crest_step_m");
   if (!(max_tilt_deg > 0.0 && max_tilt_deg < 90.0)) {
     throw std::invalid_argument("VehicleBox: max_tilt_deg must be in (0, 90), got " + std::to_string(max_tilt_deg));
   }

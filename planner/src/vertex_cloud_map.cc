@@ -255,7 +255,15 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
   for (double x : {0.0, vehicle.wheelbase_m}) {
     for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
       const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
-      if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;  // where the vehicle stands
+      if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) {
+        // Where the vehicle stands; ahead of its front wheels only the crest test still applies.
+        const SupportRegion& r = ground_.known_support;
+        const double along = support_cos_ * (contact.x() - r.pose.x_m) + support_sin_ * (contact.y() - r.pose.y_m);
+        if (vehicle.crest_margin_m >= 0.0 && along > r.crest_from_x_m && OverUnseenDrop(ground, contact, vehicle)) {
+          return PoseCheck::kGroundUnderFootprint;
+        }
+        continue;
+      }
       const auto nearest = cloud_.Nearest(contact);
       const double support_m = vehicle.WheelSupportAt(contact.head<2>().norm());
       if (!nearest || nearest->distance_m > support_m || !cloud_.traversable()[nearest->index]) {
@@ -264,6 +272,7 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
       if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
         return PoseCheck::kGroundUnderFootprint;
       }
+      if (vehicle.crest_margin_m >= 0.0 && OverUnseenDrop(ground, contact, vehicle)) return PoseCheck::kGroundUnderFootprint;
     }
   }
   return PoseCheck::kValid;
@@ -276,6 +285,73 @@ bool VertexCloudMap::SeenBeyond(const Vec3& contact, double radius_m) const {
     if (cloud_.traversable()[n.index] && cloud_.points()[n.index].head<2>().norm() >= reach) return true;
   }
   return false;
+}
+
+template <class Visit>
+bool VertexCloudMap::AnyInCells(double lo_x, double hi_x, double lo_y, double hi_y, double lo_z, double hi_z,
+                                Visit&& visit) const {
+  const Grid& g = grid_;
+  const int ix0 = std::max(0, static_cast<int>(std::floor((lo_x - g.origin_x_m) / g.cell_m)));
+  const int ix1 = std::min(g.nx - 1, static_cast<int>(std::floor((hi_x - g.origin_x_m) / g.cell_m)));
+  const int iy0 = std::max(0, static_cast<int>(std::floor((lo_y - g.origin_y_m) / g.cell_m)));
+  const int iy1 = std::min(g.ny - 1, static_cast<int>(std::floor((hi_y - g.origin_y_m) / g.cell_m)));
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      const std::size_t cell = static_cast<std::size_t>(iy) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(ix);
+      const Vec3* begin = g.points.data() + g.cell_begin[cell];
+      const Vec3* end = g.points.data() + g.cell_begin[cell + 1];
+      begin = std::lower_bound(begin, end, lo_z, [](const Vec3& p, double z) { return p.z() < z; });
+      end = std::upper_bound(begin, end, hi_z, [](double z, const Vec3& p) { return z < p.z(); });
+      for (const Vec3* it = begin; it != end; ++it) {
+        if (visit(*it, g.traversable[static_cast<std::size_t>(it - g.points.data())] != 0)) return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool VertexCloudMap::OverUnseenDrop(const GroundPose& ground, const Vec3& contact, const VehicleBox& vehicle) const {
+  // Rays come from the viewpoint, the map frame's origin. The probe lies crest_margin_m beyond the
+  // contact, away from the viewpoint, on the pose's ground plane.
+  // How far beyond the probe a ray's end point may lie, and how far to the side of the probe's
+  // vertical plane through the viewpoint: a ray past a lip meets the bottom or the far wall within
+  // a few metres; the visible points lie a few centimetres to 0.5 m apart.
+  constexpr double kRayReachM = 3.0;
+  constexpr double kRayAsideM = 0.3;
+  const double r_c = contact.head<2>().norm();
+  if (!(r_c > 1e-6)) return false;
+  const Vec3 n = ground.T_L_B.linear().col(2);
+  const Vec3 out(contact.x() / r_c, contact.y() / r_c, 0.0);
+  const Vec3 along = (out - out.dot(n) / n.z() * Vec3::UnitZ()).normalized();  // `out` tilted onto the plane
+  const Vec3 p = contact + vehicle.crest_margin_m * along;
+  const double r_p = p.head<2>().norm();
+  if (!(r_p > 1e-6)) return false;
+  const Vec3 u(p.x() / r_p, p.y() / r_p, 0.0);
+  // (a) A ray that went under the probe: a visible point q beyond it (r_q in (r_p, r_p + reach], near
+  // the vertical plane through the viewpoint and the probe) whose ray passes below z_p - drop at the
+  // probe's range: z_q r_p / r_q < z_p - drop, i.e. z_q < (z_p - drop) r_q / r_p.
+  const double below = p.z() - vehicle.crest_drop_m;
+  const double z_hi = std::max(below, below * (r_p + kRayReachM) / r_p);
+  const Vec3 far = p + kRayReachM * u;
+  const bool ray_under = AnyInCells(
+      std::min(p.x(), far.x()) - kRayAsideM, std::max(p.x(), far.x()) + kRayAsideM,
+      std::min(p.y(), far.y()) - kRayAsideM, std::max(p.y(), far.y()) + kRayAsideM,
+      -std::numeric_limits<double>::infinity(), z_hi, [&](const Vec3& q, bool) {
+        const double r_q = q.head<2>().norm();
+        if (!(r_q > r_p) || r_q > r_p + kRayReachM) return false;
+        if (std::abs(u.x() * q.y() - u.y() * q.x()) > kRayAsideM) return false;
+        return q.z() * r_p < below * r_q;
+      });
+  if (!ray_under) return false;
+  // (b) Seen traversable ground at or beyond the probe carries it: within wheel_support_m of it in
+  // the plane, at least as far from the viewpoint, and within crest_step_m of its height.
+  const double rho = vehicle.wheel_support_m;
+  const bool carried = AnyInCells(p.x() - rho, p.x() + rho, p.y() - rho, p.y() + rho, p.z() - vehicle.crest_step_m,
+                                  p.z() + vehicle.crest_step_m, [&](const Vec3& q, bool traversable) {
+                                    return traversable && (q - p).head<2>().squaredNorm() <= rho * rho &&
+                                           q.head<2>().norm() >= r_p;
+                                  });
+  return !carried;
 }
 
 bool VertexCloudMap::IsKnownFree(double x_m, double y_m) const {

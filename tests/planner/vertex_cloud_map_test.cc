@@ -183,6 +183,76 @@ TEST(VertexCloudMapTest, WheelSupportGrowsWithTheDistanceFromTheSensor) {
   EXPECT_THROW(growing.Validate(), std::invalid_argument);
 }
 
+// Ground 1.9 m below the viewpoint (the sensor at the origin) ends at a lip at x = lip_m; the ditch's
+// near wall lies in the lip's shadow, its bottom (1 m down, traversable) is seen only where the rays
+// over the lip reach it, its far wall (steep) and the ground beyond are seen. Or, with `ramp`, the
+// ground goes on down a 20 deg ramp from the lip, seen.
+VertexCloudMap DitchOrRamp(double lip_m, bool ramp) {
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  const double ground_z = -1.9, depth = 1.0;
+  const double slope = std::tan(20.0 * kPi / 180.0);
+  const Vec3 ramp_normal = Vec3(slope, 0.0, 1.0).normalized();
+  const double wall_n = std::sqrt(0.5);
+  for (int i = -40; i <= 100; ++i) {
+    const double x = 0.1 * i;
+    double z = ground_z;
+    Vec3 n = Vec3::UnitZ();
+    bool ok = true;
+    if (x > lip_m + 1e-9) {
+      if (ramp) {
+        z = ground_z - slope * (x - lip_m);
+        n = ramp_normal;
+      } else if (x < lip_m + 1.0) {
+        continue;  // the near wall, unseen
+      } else if (x <= lip_m + 2.5) {
+        z = ground_z - depth;
+        if (-z * lip_m / -ground_z > x) continue;  // in the lip's shadow
+      } else if (x < lip_m + 3.5) {
+        z = ground_z - depth + (x - lip_m - 2.5);
+        n = Vec3(-wall_n, 0.0, wall_n);
+        ok = false;
+      }
+    }
+    for (int j = -30; j <= 30; ++j) {
+      points.emplace_back(x, 0.1 * j, z);
+      normals.push_back(n);
+      traversable.push_back(ok ? 1 : 0);
+    }
+  }
+  GroundContext ground;
+  ground.ground_reference_z_m = ground_z;
+  return VertexCloudMap(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, ground);
+}
+
+// The crest test: a front wheel 0.05 m past a ditch's lip stands within wheel_support_m of the lip's
+// points, so the wheel rule alone accepts it; rays over the lip that reach the ditch's bottom and far
+// wall show that the ground falls away there, and no seen ground lies beyond it: refused. A wheel
+// 0.4 m short of the lip, and a wheel past the crest of a seen 20 deg ramp, stand.
+TEST(VertexCloudMapTest, CrestTestKeepsTheWheelsOffALipTheSensorHasSeenPast) {
+  VehicleBox wheels;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  wheels.placement = VehicleBox::Placement::kWheelContacts;
+  VehicleBox crest = wheels;
+  crest.crest_margin_m = 0.2;
+  const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6
+  const VertexCloudMap past = DitchOrRamp(1.85, false);
+  EXPECT_EQ(CheckPose(past, wheels, pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(past, crest, pose), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(DitchOrRamp(2.3, false), crest, pose), PoseCheck::kValid);
+  // Turned 29 deg to the right, the front wheels stand at x = 1.96 (left) and 1.38 (right).
+  const Pose2 turned{0.0, 0.0, -0.5};
+  EXPECT_EQ(CheckPose(DitchOrRamp(2.3, false), crest, turned), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(DitchOrRamp(1.9, false), wheels, turned), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(DitchOrRamp(1.9, false), crest, turned), PoseCheck::kGroundUnderFootprint);
+  // Down a seen ramp: the ground beyond the wheels is seen.
+  EXPECT_EQ(CheckPose(DitchOrRamp(1.85, true), crest, pose), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(DitchOrRamp(1.0, true), crest, pose), PoseCheck::kValid);
+  crest.crest_drop_m = 0.0;
+  EXPECT_THROW(crest.Validate(), std::invalid_argument);
+}
+
 // The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
 // there; obstacles in the box still block, and wheels outside the region still need support.
 TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {

@@ -3,6 +3,8 @@
 // prior), which the sensor never sees.
 #pragma once
 
+#include <limits>
+
 #include <Eigen/Geometry>
 
 #include "ovpc/core/types.h"
@@ -70,6 +72,10 @@ struct FootprintBox {
   double ground_band_m = 0.0;  ///< points lower than this (in B) are ground
   double top_m = 0.0;          ///< points at or above this (in B) are never the vehicle
   double body_margin_m = 0.0;  ///< returns within the footprint grown by this are the vehicle
+  /// The ground grid ends here (in B) when that is short of the grown footprint's front: the ground
+  /// under the nose is in the sensor's view, and where nothing was measured there (past a ditch's
+  /// lip, over a crest) the grid would lay ground the sensor has not seen.
+  double ground_max_x_m = std::numeric_limits<double>::infinity();
 };
 
 /// The footprint prior (MapPreparation::Config): drops returns off the vehicle's body (inside the

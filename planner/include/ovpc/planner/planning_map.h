@@ -41,6 +41,16 @@ struct BoxRules {
   /// from the viewpoint, in the plane): a wheel may not stand past the last seen ground, over an
   /// edge or a ditch the sensor has not seen into. Infinite: no such test (wheel_support_m alone).
   double edge_tolerance_m = std::numeric_limits<double>::infinity();
+  /// kWheels: the crest test. Take the place crest_margin_m beyond a wheel's contact point, away
+  /// from the sensor (the map frame's origin) on the pose's ground plane. If a sensor ray passed
+  /// more than crest_drop_m below it (a visible point lies beyond it, within 3 m along and 0.3 m
+  /// aside, whose ray is that low there), the ground falls away there: past a ditch's lip, a drop or
+  /// a crest. The place must then have seen traversable ground at or beyond it, within
+  /// wheel_support_m in the plane and crest_step_m in height, or the pose is refused. Where no ray
+  /// went under the ground the test asks nothing. Negative: no such test.
+  double crest_margin_m = -1.0;
+  double crest_drop_m = 0.1;   ///< a ray this far below the wheel's ground shows a drop
+  double crest_step_m = 0.25;  ///< seen ground at most this far below (or above) the wheel carries it
   /// How the box is placed on the ground.
   enum class Placement {
     kNearestPoint,   ///< the paper's rule: on the tangent plane of the visible point nearest the pose
@@ -75,6 +85,9 @@ struct BoxRules {
     v.Field(OVPC_FIELD(c, wheel_support_per_m), "m/m", "wheels: the support radius per metre from the sensor; 0: off");
     v.Field(OVPC_FIELD(c, wheel_support_near_m), "m", "wheels: ... and at least this");
     v.Field(OVPC_FIELD(c, edge_tolerance_m), "m", "wheels: farther needs seen ground beyond; inf: off");
+    v.Field(OVPC_FIELD(c, crest_margin_m), "m", "wheels: where a ray went under the ground, seen ground this far beyond each wheel; < 0: off");
+    v.Field(OVPC_FIELD(c, crest_drop_m), "m", "wheels: a ray this far below the ground shows a drop");
+    v.Field(OVPC_FIELD(c, crest_step_m), "m", "wheels: seen ground this far below the wheel still carries it");
     v.Choice(OVPC_FIELD(c, placement),
              Choices<Placement>{{"nearest_point", Placement::kNearestPoint}, {"wheel_contacts", Placement::kWheelContacts}},
              "how the box is placed on the ground; nearest_point: paper");

@@ -21,6 +21,9 @@ namespace ovpc::planner {
 struct SupportRegion {
   Pose2 pose;
   double min_x_m = 0.0, max_x_m = 0.0, half_width_m = 0.0;
+  /// A wheel in the region farther along than this (ahead of the vehicle's front wheels) still gets
+  /// the crest test (VehicleBox::crest_margin_m): under the nose the vehicle does not stand.
+  double crest_from_x_m = std::numeric_limits<double>::infinity();
   bool empty() const { return !(max_x_m > min_x_m) || !(half_width_m > 0.0); }
   bool Contains(double x_m, double y_m) const;
 };
@@ -89,6 +92,14 @@ class VertexCloudMap final : public PlanningMap {
   // A traversable visible point within `radius_m` of `contact` at least as far from the viewpoint
   // (in the plane) as the contact (VehicleBox::edge_tolerance_m).
   bool SeenBeyond(const Vec3& contact, double radius_m) const;
+  // The crest test (VehicleBox::crest_margin_m) for one wheel's contact on the ground of `ground`:
+  // true if a ray went under the place beyond the wheel and no seen ground carries it.
+  bool OverUnseenDrop(const GroundPose& ground, const Vec3& contact, const VehicleBox& vehicle) const;
+  // Calls visit(point, traversable) for the grid's points in the planar box [lo_x, hi_x] x [lo_y,
+  // hi_y] (by cells: points a little outside it are visited too) with a height in [lo_z, hi_z], until
+  // it returns true; returns whether it did.
+  template <class Visit>
+  bool AnyInCells(double lo_x, double hi_x, double lo_y, double hi_y, double lo_z, double hi_z, Visit&& visit) const;
   // The normal of the plane fitted around point `index` (see Config::normal_neighbours).
   Vec3 FittedNormal(int index) const;
   // The box test runs for every state the planner checks, so the points are also kept in a planar
