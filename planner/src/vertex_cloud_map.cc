@@ -327,7 +327,16 @@ bool VertexCloudMap::OverUnseenDrop(const GroundPose& ground, const Vec3& contac
   const double r_p = p.head<2>().norm();
   if (!(r_p > 1e-6)) return false;
   const Vec3 u(p.x() / r_p, p.y() / r_p, 0.0);
-  // (a) A ray that went under the probe: a visible point q beyond it (r_q in (r_p, r_p + reach], near
+  // (a) Seen traversable ground at or beyond the probe carries it: within wheel_support_m of it in
+  // the plane, at least as far from the viewpoint, and within crest_step_m of its height.
+  const double rho = vehicle.wheel_support_m;
+  const bool carried = AnyInCells(p.x() - rho, p.x() + rho, p.y() - rho, p.y() + rho, p.z() - vehicle.crest_step_m,
+                                  p.z() + vehicle.crest_step_m, [&](const Vec3& q, bool traversable) {
+                                    return traversable && (q - p).head<2>().squaredNorm() <= rho * rho &&
+                                           q.head<2>().norm() >= r_p;
+                                  });
+  if (carried) return false;  // the common case, and the cheaper search
+  // (b) A ray that went under the probe: a visible point q beyond it (r_q in (r_p, r_p + reach], near
   // the vertical plane through the viewpoint and the probe) whose ray passes below z_p - drop at the
   // probe's range: z_q r_p / r_q < z_p - drop, i.e. z_q < (z_p - drop) r_q / r_p.
   const double below = p.z() - vehicle.crest_drop_m;
@@ -342,16 +351,7 @@ bool VertexCloudMap::OverUnseenDrop(const GroundPose& ground, const Vec3& contac
         if (std::abs(u.x() * q.y() - u.y() * q.x()) > kRayAsideM) return false;
         return q.z() * r_p < below * r_q;
       });
-  if (!ray_under) return false;
-  // (b) Seen traversable ground at or beyond the probe carries it: within wheel_support_m of it in
-  // the plane, at least as far from the viewpoint, and within crest_step_m of its height.
-  const double rho = vehicle.wheel_support_m;
-  const bool carried = AnyInCells(p.x() - rho, p.x() + rho, p.y() - rho, p.y() + rho, p.z() - vehicle.crest_step_m,
-                                  p.z() + vehicle.crest_step_m, [&](const Vec3& q, bool traversable) {
-                                    return traversable && (q - p).head<2>().squaredNorm() <= rho * rho &&
-                                           q.head<2>().norm() >= r_p;
-                                  });
-  return !carried;
+  return ray_under;
 }
 
 bool VertexCloudMap::IsKnownFree(double x_m, double y_m) const {
