@@ -346,7 +346,7 @@ PointCloudBuffer::LocalCloud Navigator::PrepareCloud(const Job& job) {
     footprint.ground_band_m = box.ground_clearance_m;
     footprint.top_m = box.height_m + box.margin_m + 0.05;
     // With the crest test, the grid ends at the front wheels' contact patch (FootprintBox::ground_max_x_m).
-    if (box.crest_margin_m >= 0.0) footprint.ground_max_x_m = box.wheelbase_m + kContactPatchM;
+    if (box.crest_margin_m >= 0.0 && !getenv("OVPC_NO_CUT")) footprint.ground_max_x_m = box.wheelbase_m + kContactPatchM;
     AddFootprintPrior(cloud.T_O_L.inverse() * job.T_O_B, footprint, prep, &cloud.points_L);
   }
   return cloud;

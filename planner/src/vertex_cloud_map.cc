@@ -328,12 +328,17 @@ bool VertexCloudMap::OverUnseenDrop(const GroundPose& ground, const Vec3& contac
   if (!(r_p > 1e-6)) return false;
   const Vec3 u(p.x() / r_p, p.y() / r_p, 0.0);
   // (a) Seen traversable ground at or beyond the probe carries it: within wheel_support_m of it in
-  // the plane, at least as far from the viewpoint, and within crest_step_m of its height.
+  // the plane, at least as far from the viewpoint, and within crest_step_m of its height plus what a
+  // slope of max_tilt_deg rises or falls over the distance between them (a ramp below a crest).
   const double rho = vehicle.wheel_support_m;
-  const bool carried = AnyInCells(p.x() - rho, p.x() + rho, p.y() - rho, p.y() + rho, p.z() - vehicle.crest_step_m,
-                                  p.z() + vehicle.crest_step_m, [&](const Vec3& q, bool traversable) {
-                                    return traversable && (q - p).head<2>().squaredNorm() <= rho * rho &&
-                                           q.head<2>().norm() >= r_p;
+  const double grade = std::tan(vehicle.max_tilt_deg * kPi / 180.0);
+  const double band = vehicle.crest_step_m + grade * rho;
+  const bool carried = AnyInCells(p.x() - rho, p.x() + rho, p.y() - rho, p.y() + rho, p.z() - band, p.z() + band,
+                                  [&](const Vec3& q, bool traversable) {
+                                    if (!traversable || q.head<2>().norm() < r_p) return false;
+                                    const double d2 = (q - p).head<2>().squaredNorm();
+                                    return d2 <= rho * rho &&
+                                           std::abs(q.z() - p.z()) <= vehicle.crest_step_m + grade * std::sqrt(d2);
                                   });
   if (carried) return false;  // the common case, and the cheaper search
   // (b) A ray that went under the probe: a visible point q beyond it (r_q in (r_p, r_p + reach], near
