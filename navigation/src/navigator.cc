@@ -15,9 +15,13 @@
 namespace ovpc::navigation {
 namespace {
 
-// A wheel's contact patch along the ground: how far ahead of the front wheels the ground the vehicle
-// stands on reaches (SupportRegion::crest_from_x_m).
+// A wheel's contact patch along the ground: how far ahead of the front axle the footprint prior lays
+// ground when the crest test is on (FootprintBox::ground_max_x_m).
 constexpr double kContactPatchM = 0.1;
+// Wheels of a pose farther than this ahead of the vehicle's own front wheels, inside the known support,
+// still get the crest test (SupportRegion::crest_from_x_m): a rounding allowance, so that the
+// vehicle's own pose passes and every pose ahead of it is tested.
+constexpr double kOwnWheelsM = 0.02;
 
 using ovpc::internal::Clock;
 using ovpc::internal::MsSince;
@@ -94,6 +98,8 @@ void Navigator::PathChoice::Validate() const {
   if (!std::isfinite(rollout_margin_m) || rollout_margin_m > 1.0) {
     fail("navigator.path_choice.rollout_margin_m must be at most 1 (negative disables)");
   }
+  if (!std::isfinite(edge_look_m) || edge_look_m > 5.0) fail("navigator.path_choice.edge_look_m must be at most 5 (negative disables)");
+  if (!(edge_speed_mps > 0.0) || !std::isfinite(edge_speed_mps)) fail("navigator.path_choice.edge_speed_mps must be > 0");
 }
 
 void Navigator::Config::Validate() const {
@@ -135,6 +141,13 @@ controller::Command Navigator::Control(double time_s, const Eigen::Isometry3d& T
     next_control_s_ = NextTick(time_s, next_control_s_, 1.0 / config_.timing.control_rate_hz);
     const auto t = Clock::now();
     command_ = follower_->has_path() ? follower_->Update(ToPose2(T_O_B), speed_mps) : controller::Command{0.0, 0.0, true};
+    if (state_.edge_O && follower_->has_path()) {
+      // Creep and look: arrive at the place near an unseen drop no faster than the edge speed.
+      const double d = (T_O_B.translation().head<2>() - *state_.edge_O).norm();
+      const double v = config_.path_choice.edge_speed_mps;
+      const double cap = std::sqrt(v * v + 2.0 * config_.follower.stop_decel_mps2 * d);
+      command_.speed_mps = std::clamp(command_.speed_mps, -cap, cap);
+    }
     speed_mps_ = speed_mps;
     t_controller_.Add(MsSince(t));
   }
@@ -346,7 +359,7 @@ PointCloudBuffer::LocalCloud Navigator::PrepareCloud(const Job& job) {
     footprint.ground_band_m = box.ground_clearance_m;
     footprint.top_m = box.height_m + box.margin_m + 0.05;
     // With the crest test, the grid ends at the front wheels' contact patch (FootprintBox::ground_max_x_m).
-    if (box.crest_margin_m >= 0.0 && !getenv("OVPC_NO_CUT")) footprint.ground_max_x_m = box.wheelbase_m + kContactPatchM;
+    if (box.crest_margin_m >= 0.0) footprint.ground_max_x_m = box.wheelbase_m + kContactPatchM;
     AddFootprintPrior(cloud.T_O_L.inverse() * job.T_O_B, footprint, prep, &cloud.points_L);
   }
   return cloud;
@@ -377,7 +390,7 @@ void Navigator::MapCycle(Job* job) {
     context.known_support.min_x_m = box.centre_ahead_m - 0.5 * box.length_m - grow;
     context.known_support.max_x_m = box.centre_ahead_m + 0.5 * box.length_m + grow;
     context.known_support.half_width_m = 0.5 * box.width_m + grow;
-    context.known_support.crest_from_x_m = box.wheelbase_m + kContactPatchM;
+    context.known_support.crest_from_x_m = box.wheelbase_m + kOwnWheelsM;
   }
   t = Clock::now();
   cpu = ThreadCpuMs();
@@ -397,6 +410,7 @@ void Navigator::MapCycle(Job* job) {
   t = Clock::now();
   cpu = ThreadCpuMs();
   CheckAndReplan(job, c);
+  FindEdgeAhead(job, c);
   record.plan_ms = MsSince(t);
   record.plan_cpu_ms = ThreadCpuMs() - cpu;
 }
@@ -432,6 +446,35 @@ void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
   const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
   // The old path runs into something: drive only its valid part.
   if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
+}
+
+void Navigator::FindEdgeAhead(Job* job, const Cycle& c) const {
+  PlanState& state = job->state;
+  state.edge_O.reset();
+  const double look = config_.path_choice.edge_look_m;
+  if (look < 0.0 || box_.crest_margin_m < 0.0 || state.path_O.empty() || job->follow == Job::Follow::kClear) return;
+  if (!job->following && job->follow != Job::Follow::kFollow) return;
+  constexpr double kAheadM = 4.0;  // far enough to slow from the target speed
+  planner::VehicleBox looking = box_;
+  looking.crest_margin_m = look;
+  const auto& poses = state.path_O.Poses();
+  const Eigen::Vector2d here = job->T_O_B.translation().head<2>();
+  std::size_t closest = 0;
+  double best = 1e300;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - here).norm();
+    if (d < best) best = d, closest = i;
+  }
+  double arc = 0.0;
+  for (std::size_t i = closest; i < poses.size() && arc <= kAheadM; ++i) {
+    if (i > closest) {
+      arc += (Eigen::Vector2d(poses[i].pose.x_m - poses[i - 1].pose.x_m, poses[i].pose.y_m - poses[i - 1].pose.y_m)).norm();
+    }
+    if (planner::CheckPose(*c.map, looking, c.frame.ToL(poses[i].pose)) == planner::PoseCheck::kGroundUnderFootprint) {
+      state.edge_O = Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m);
+      return;
+    }
+  }
 }
 
 bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest_out, std::size_t* blocked_index) const {

@@ -2,6 +2,8 @@
 // maps, plans and drives; the seams take a user's map backend, planner and follower.
 #include "ovpc/navigation/navigator.h"
 
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -397,6 +399,17 @@ TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
     late.timing.latency_s = latency;
     EXPECT_THROW(Navigator(late, {{0.0, 0.0}}), std::invalid_argument) << latency;
   }
+  Navigator::Config edge;
+  edge.path_choice.edge_speed_mps = 0.0;
+  EXPECT_THROW(Navigator(edge, {{0.0, 0.0}}), std::invalid_argument) << "edge_speed_mps";
+  edge.path_choice.edge_speed_mps = 0.3;
+  edge.path_choice.edge_look_m = std::nan("");
+  EXPECT_THROW(Navigator(edge, {{0.0, 0.0}}), std::invalid_argument) << "edge_look_m";
+  edge.path_choice.edge_look_m = 1.0;
+  edge.planner.vehicle.crest_margin_m = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(Navigator(edge, {{0.0, 0.0}}), std::invalid_argument) << "crest_margin_m";
+  edge.planner.vehicle.crest_margin_m = 0.2;
+  EXPECT_NO_THROW(Navigator(edge, {{0.0, 0.0}}));
   for (const double latency : {0.1, 0.2}) {
     Navigator::Config in_time;
     in_time.timing.latency_s = latency;

@@ -90,6 +90,15 @@ class Navigator {
     /// pose; a remaining prefix shorter than `min_prefix_m` is dropped and the vehicle stands.
     double blocked_stop_short_m = 0.5;
     double min_prefix_m = 0.3;
+    /// Creep and look. With the planner's crest test on (planner.vehicle.crest_margin_m), the first
+    /// pose of the path ahead (up to 4 m of it) whose wheels would fail the crest test taken this far
+    /// beyond them (the sensor has seen the ground fall away there and nothing under it) is a place to
+    /// arrive at no faster than edge_speed_mps: the command's speed is capped at
+    /// sqrt(edge_speed^2 + 2 a d), d the distance to that pose and a the follower's stop_decel_mps2.
+    /// At that speed the vehicle stops within centimetres when the next map shows the edge. Negative:
+    /// off.
+    double edge_look_m = -1.0;
+    double edge_speed_mps = 0.3;
     template <class C, class V>
     static void VisitFields(C& c, V& v) {
       v.Field(OVPC_FIELD(c, goal_candidates), "goals", "local goals tried per re-plan until one gives a path");
@@ -100,6 +109,8 @@ class Navigator {
       v.Field(OVPC_FIELD(c, rollout_margin_m), "m", "the follower's rollout keeps the box grown by this clear; < 0: off");
       v.Field(OVPC_FIELD(c, blocked_stop_short_m), "m", "a blocked path is driven up to this far before the block");
       v.Field(OVPC_FIELD(c, min_prefix_m), "m", "a shorter remaining prefix is dropped");
+      v.Field(OVPC_FIELD(c, edge_look_m), "m", "slow down before a pose with an unseen drop this far past its wheels; < 0: off");
+      v.Field(OVPC_FIELD(c, edge_speed_mps), "m/s", "... to this speed");
     }
     /// @throws std::invalid_argument naming the offending field.
     void Validate() const;
@@ -220,6 +231,7 @@ class Navigator {
     bool goal_is_look = false;      // the goal is a place to look from at a rim
     std::optional<double> last_plan_s;
     int blocked_updates = 0;                        // map cycles in a row that found the path blocked
+    std::optional<Eigen::Vector2d> edge_O;          // the path's first pose near an unseen drop (edge_look_m)
   };
   struct Job;    // one cycle: its inputs, state and results
   struct Cycle;  // map-frame helpers of one cycle
@@ -230,6 +242,8 @@ class Navigator {
   // MapCycle's steps: the buffered cloud made ready for the map; the re-plan triggers checked and acted on.
   PointCloudBuffer::LocalCloud PrepareCloud(const Job& job);
   void CheckAndReplan(Job* job, const Cycle& c);
+  // The path's first pose ahead near an unseen drop (PathChoice::edge_look_m), into the job's state.
+  void FindEdgeAhead(Job* job, const Cycle& c) const;
   bool PathBlocked(const Job& job, const Cycle& c, std::size_t* closest, std::size_t* blocked_index) const;
   bool Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
               std::size_t blocked_index);
