@@ -23,6 +23,18 @@ constexpr double kContactPatchM = 0.1;
 // vehicle's own pose passes and every pose ahead of it is tested.
 constexpr double kOwnWheelsM = 0.02;
 
+// The index of the path's pose nearest `here` (the first of equals).
+std::size_t ClosestPose(const planner::Path& path, const Eigen::Vector2d& here) {
+  const auto& poses = path.Poses();
+  std::size_t closest = 0;
+  double best = 1e300;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - here).norm();
+    if (d < best) best = d, closest = i;
+  }
+  return closest;
+}
+
 using ovpc::internal::Clock;
 using ovpc::internal::MsSince;
 using ovpc::internal::ThreadCpuMs;
@@ -406,7 +418,6 @@ void Navigator::MapCycle(Job* job) {
   c.map = job->map.get();
   job->planned = true;
 
-
   t = Clock::now();
   cpu = ThreadCpuMs();
   CheckAndReplan(job, c);
@@ -458,13 +469,7 @@ void Navigator::FindEdgeAhead(Job* job, const Cycle& c) const {
   planner::VehicleBox looking = box_;
   looking.crest_margin_m = look;
   const auto& poses = state.path_O.Poses();
-  const Eigen::Vector2d here = job->T_O_B.translation().head<2>();
-  std::size_t closest = 0;
-  double best = 1e300;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - here).norm();
-    if (d < best) best = d, closest = i;
-  }
+  const std::size_t closest = ClosestPose(state.path_O, job->T_O_B.translation().head<2>());
   double arc = 0.0;
   for (std::size_t i = closest; i < poses.size() && arc <= kAheadM; ++i) {
     if (i > closest) {
@@ -482,13 +487,7 @@ bool Navigator::PathBlocked(const Job& job, const Cycle& c, std::size_t* closest
   // Poses already driven past do not count: check from the pose closest to the vehicle on.
   const planner::Path& path = job.state.path_O;
   const auto& poses = path.Poses();
-  std::size_t closest = 0;
-  double best = 1e300;
-  const Eigen::Vector2d v(job.T_O_B.translation().head<2>());
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const double d = (Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m) - v).norm();
-    if (d < best) best = d, closest = i;
-  }
+  const std::size_t closest = ClosestPose(path, job.T_O_B.translation().head<2>());
   *closest_out = closest;
   const auto invalid = planner_->FirstInvalidPose(*c.map, c.frame.ToL(path), closest);
   if (!invalid) return false;
