@@ -112,6 +112,7 @@ void Navigator::PathChoice::Validate() const {
   }
   if (!std::isfinite(edge_look_m) || edge_look_m > 5.0) fail("navigator.path_choice.edge_look_m must be at most 5 (negative disables)");
   if (!(edge_speed_mps > 0.0) || !std::isfinite(edge_speed_mps)) fail("navigator.path_choice.edge_speed_mps must be > 0");
+  if (!(direct_heading_turn_deg >= 0.0)) fail("navigator.path_choice.direct_heading_turn_deg must be >= 0 (inf: off)");
 }
 
 void Navigator::Config::Validate() const {
@@ -560,9 +561,12 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
   PlanState& state = job->state;
   CycleRecord* cycle = &job->record;
   ++job->plan_calls;
-  // At the route's end only the position matters: heading straight there is a goal too.
+  // Heading straight at the goal is a goal too: at the route's end only the position matters; just
+  // past a hairpin, reaching the goal already turned takes a loop.
+  const bool hairpin = !goal.is_look && std::abs(planner::NormalizeYaw(goal.pose.yaw_rad - c.vehicle_L.yaw_rad)) >
+                                            config_.path_choice.direct_heading_turn_deg * kPi / 180.0;
   std::vector<double> other_yaws;
-  if (goal.is_route_end && config_.path_choice.route_end_any_heading) {
+  if ((goal.is_route_end && config_.path_choice.route_end_any_heading) || (!goal.is_route_end && hairpin)) {
     const double dx = goal.pose.x_m - c.vehicle_L.x_m, dy = goal.pose.y_m - c.vehicle_L.y_m;
     if (std::hypot(dx, dy) > 0.5) other_yaws.push_back(std::atan2(dy, dx));
   }

@@ -336,6 +336,8 @@ bool VertexCloudMap::OverUnseenDrop(const GroundPose& ground, const Vec3& contac
   const bool carried = AnyInCells(p.x() - rho, p.x() + rho, p.y() - rho, p.y() + rho, p.z() - band, p.z() + band,
                                   [&](const Vec3& q, bool traversable) {
                                     if (!traversable || q.head<2>().norm() < r_p) return false;
+                                    // The footprint prior's ground, in the known support, was not seen.
+                                    if (InRegion(ground_.known_support, support_cos_, support_sin_, q.x(), q.y())) return false;
                                     const double d2 = (q - p).head<2>().squaredNorm();
                                     return d2 <= rho * rho &&
                                            std::abs(q.z() - p.z()) <= vehicle.crest_step_m + grade * std::sqrt(d2);

@@ -276,6 +276,61 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// A planner that records the goal and the other goal headings it is asked for, and finds nothing.
+class RecordingPlanner final : public PathPlanner {
+ public:
+  struct Call {
+    Pose2 start, goal;
+    std::vector<double> other_yaws;
+  };
+  explicit RecordingPlanner(std::vector<Call>* calls) : calls_(calls) {}
+  planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2& goal,
+                           const std::vector<double>& other_yaws) const override {
+    calls_->push_back({start, goal, other_yaws});
+    planner::PlanResult r;
+    r.status = planner::PlanStatus::kNoPath;
+    return r;
+  }
+  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
+                                              std::size_t) const override {
+    return std::nullopt;
+  }
+
+ private:
+  std::vector<Call>* calls_;
+};
+
+// Past a hairpin (the route turns back by 148 degrees) the goal's heading is the next leg's: the
+// vehicle, facing the first leg, would have to have turned already. With direct_heading_turn_deg
+// the planner may also reach the goal heading straight from the vehicle to it; on a straight route,
+// or with the rule off, only the goal's own heading is asked for.
+TEST(NavigatorTest, AGoalPastAHairpinMayBeReachedHeadingStraightAtIt) {
+  const std::vector<Eigen::Vector2d> hairpin = {{0.0, 0.0}, {12.0, 0.0}, {1.8, 6.3}, {-8.4, 12.6}};
+  const std::vector<Eigen::Vector2d> straight = {{0.0, 0.0}, {20.0, 0.0}};
+  for (const double turn : {std::numeric_limits<double>::infinity(), 90.0}) {
+    for (const auto* route : {&hairpin, &straight}) {
+      Navigator::Config config = FlatConfig();
+      config.path_choice.direct_heading_turn_deg = turn;
+      std::vector<RecordingPlanner::Call> calls;
+      Navigator::Plugins plugins;
+      plugins.planner = std::make_unique<RecordingPlanner>(&calls);
+      Navigator nav(config, *route, std::move(plugins));
+      FirstCycle(&nav, FlatGroundScans(1));
+      ASSERT_FALSE(calls.empty()) << turn;
+      for (const RecordingPlanner::Call& call : calls) {
+        const bool turned = std::abs(planner::NormalizeYaw(call.goal.yaw_rad - call.start.yaw_rad)) > kPi / 2;
+        EXPECT_EQ(turned, route == &hairpin) << "the goals past the hairpin face back: " << call.goal.yaw_rad;
+        if (turned && std::isfinite(turn)) {
+          ASSERT_EQ(call.other_yaws.size(), 1u) << turn;
+          EXPECT_NEAR(call.other_yaws[0], std::atan2(call.goal.y_m - call.start.y_m, call.goal.x_m - call.start.x_m), 1e-9);
+        } else {
+          EXPECT_TRUE(call.other_yaws.empty()) << turn << (route == &hairpin ? " hairpin" : " straight");
+        }
+      }
+    }
+  }
+}
+
 // With a latency the cycle's path is driven from time_s + latency_s: it starts where the vehicle
 // will be then (here 1 m/s straight ahead for 0.1 s), not where it was when the cycle started.
 TEST(NavigatorTest, WithALatencyThePathStartsWhereTheVehicleWillBe) {
@@ -410,6 +465,11 @@ TEST(NavigatorTest, BadConfigAndRouteAreRejected) {
   EXPECT_THROW(Navigator(edge, {{0.0, 0.0}}), std::invalid_argument) << "crest_margin_m";
   edge.planner.vehicle.crest_margin_m = 0.2;
   EXPECT_NO_THROW(Navigator(edge, {{0.0, 0.0}}));
+  for (const double turn : {-1.0, std::nan("")}) {
+    Navigator::Config hairpin;
+    hairpin.path_choice.direct_heading_turn_deg = turn;
+    EXPECT_THROW(Navigator(hairpin, {{0.0, 0.0}}), std::invalid_argument) << "direct_heading_turn_deg " << turn;
+  }
   for (const double latency : {0.1, 0.2}) {
     Navigator::Config in_time;
     in_time.timing.latency_s = latency;

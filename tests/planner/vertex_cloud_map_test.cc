@@ -253,6 +253,51 @@ TEST(VertexCloudMapTest, CrestTestKeepsTheWheelsOffALipTheSensorHasSeenPast) {
   EXPECT_THROW(crest.Validate(), std::invalid_argument);
 }
 
+// The crest test's search for seen ground beyond a wheel skips the known support: there the
+// footprint prior lays ground that was never seen (in `fill` mode on past a lip, up to the known
+// support's end).
+TEST(VertexCloudMapTest, TheFootprintPriorsGroundDoesNotCarryAWheelPastALip) {
+  VehicleBox crest;
+  crest.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  crest.placement = VehicleBox::Placement::kWheelContacts;
+  crest.crest_margin_m = 0.2;
+  const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6
+  // The vehicle stands at `pose` by a lip at x = 1.85; its known support reaches to 2.65, and the
+  // footprint prior's ground is laid on to there; the ditch's bottom, 1 m down, is seen over the lip.
+  // 0.3 m on, its front wheels stand on the prior's ground 0.35 m past the lip: that ground does not
+  // carry them; the same ground, seen, would.
+  GroundContext prior;
+  prior.ground_reference_z_m = -1.9;
+  prior.known_support.pose = pose;
+  prior.known_support.min_x_m = -0.75;
+  prior.known_support.max_x_m = 2.65;
+  prior.known_support.half_width_m = 1.05;
+  prior.known_support.crest_from_x_m = 1.92;
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  const auto add = [&](double x, double y, double z) {
+    points.emplace_back(x, y, z);
+    normals.push_back(Vec3::UnitZ());
+    traversable.push_back(1);
+  };
+  for (int i = -40; 0.1 * i <= 2.65; ++i) {
+    for (int j = -30; j <= 30; ++j) {
+      if (0.1 * i <= 1.85 || std::abs(0.1 * j) <= 1.05) add(0.1 * i, 0.1 * j, -1.9);  // the prior: in the region
+    }
+  }
+  for (int i = 29; i <= 33; ++i) {
+    for (int j = -10; j <= 10; ++j) add(0.1 * i, 0.1 * j, -2.9);
+  }
+  const Pose2 on{0.3, 0.0, 0.0};
+  const VertexCloudMap with_prior(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, prior);
+  EXPECT_EQ(CheckPose(with_prior, crest, pose), PoseCheck::kValid) << "where it stands";
+  EXPECT_EQ(CheckPose(with_prior, crest, on), PoseCheck::kGroundUnderFootprint);
+  prior.known_support = SupportRegion{};
+  const VertexCloudMap seen(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, prior);
+  EXPECT_EQ(CheckPose(seen, crest, on), PoseCheck::kValid) << "the same ground, seen, carries it";
+}
+
 // The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
 // there; obstacles in the box still block, and wheels outside the region still need support.
 TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {

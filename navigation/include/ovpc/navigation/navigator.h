@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -69,6 +70,11 @@ class Navigator {
     int goal_candidates = 3;
     /// A plan to the route's end may also arrive heading straight from the vehicle to it.
     bool route_end_any_heading = true;
+    /// A goal short of the route's end whose heading turns more than this from the vehicle's may also
+    /// be reached heading straight from the vehicle to it. Just past a sharp corner the route's
+    /// heading asks the vehicle to have turned already, which with its turning circle takes a loop or
+    /// a three-point turn; the next goals turn it further. Infinite: off (the goal's heading only).
+    double direct_heading_turn_deg = std::numeric_limits<double>::infinity();
     /// The planner takes the ground under the vehicle's footprint, grown by this margin, as support
     /// for the wheels (the vehicle stands on it, though the sensor never sees it). Negative disables.
     double known_support_margin_m = 0.3;
@@ -103,6 +109,7 @@ class Navigator {
     static void VisitFields(C& c, V& v) {
       v.Field(OVPC_FIELD(c, goal_candidates), "goals", "local goals tried per re-plan until one gives a path");
       v.Field(OVPC_FIELD(c, route_end_any_heading), "", "the route's end may be reached at any heading");
+      v.Field(OVPC_FIELD(c, direct_heading_turn_deg), "deg", "a goal turned more than this may be reached heading straight at it; inf: off");
       v.Field(OVPC_FIELD(c, known_support_margin_m), "m", "the vehicle stands on its unseen footprint grown by this");
       v.Field(OVPC_FIELD(c, keep_path_within_m), "m", "a periodic re-plan must be this much shorter; < 0: paper");
       v.Field(OVPC_FIELD(c, cusp_cost_m), "m", "a change of direction counts this many metres");

@@ -47,8 +47,9 @@ struct BoxRules {
   /// aside, whose ray is that low there), the ground falls away there: past a ditch's lip, a drop or
   /// a crest. The place must then have seen traversable ground at or beyond it, within
   /// wheel_support_m in the plane and within crest_step_m in height plus what a slope of
-  /// max_tilt_deg gains over the distance, or the pose is refused. Where no ray went under the
-  /// ground the test asks nothing. Negative: no such test.
+  /// max_tilt_deg gains over the distance, or the pose is refused; ground in the map's known support
+  /// (the footprint prior's, never seen) does not count. Where no ray went under the ground the test
+  /// asks nothing. Negative: no such test.
   double crest_margin_m = -1.0;
   double crest_drop_m = 0.1;   ///< a ray this far below the wheel's ground shows a drop
   double crest_step_m = 0.25;  ///< seen ground at most this far below (or above) the wheel carries it
