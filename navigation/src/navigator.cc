@@ -113,6 +113,9 @@ void Navigator::PathChoice::Validate() const {
   if (!std::isfinite(edge_look_m) || edge_look_m > 5.0) fail("navigator.path_choice.edge_look_m must be at most 5 (negative disables)");
   if (!(edge_speed_mps > 0.0) || !std::isfinite(edge_speed_mps)) fail("navigator.path_choice.edge_speed_mps must be > 0");
   if (!(direct_heading_turn_deg >= 0.0)) fail("navigator.path_choice.direct_heading_turn_deg must be >= 0 (inf: off)");
+  if (!(nearer_goal_fraction >= 0.0) || !(nearer_goal_fraction < 1.0)) {
+    fail("navigator.path_choice.nearer_goal_fraction must be in [0, 1) (0: off)");
+  }
 }
 
 void Navigator::Config::Validate() const {
@@ -528,6 +531,19 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
     const GoalTry result = TryGoal(job, c, record, goal, reason, closest);
     found = result == GoalTry::kTaken;
     if (result != GoalTry::kNext) break;
+  }
+  if (!found && !goals.empty() && !job->following && config_.path_choice.nearer_goal_fraction > 0.0) {
+    // Nothing found while standing: part of the way to the best candidate, where the sensor sees the
+    // ground densely enough to stand on; from there it sees the rest.
+    const double f = config_.path_choice.nearer_goal_fraction;
+    const planner::LocalGoal& best = goals.front();
+    const double dx = best.pose.x_m - c.vehicle_L.x_m, dy = best.pose.y_m - c.vehicle_L.y_m;
+    const double d = std::hypot(dx, dy);
+    if (f * d >= config_.local_goal.min_distance_m) {
+      const planner::LocalGoal nearer{Pose2{c.vehicle_L.x_m + f * dx, c.vehicle_L.y_m + f * dy, std::atan2(dy, dx)},
+                                      best.route_progress_m - (1.0 - f) * d, false};
+      found = TryGoal(job, c, record, nearer, reason, closest) == GoalTry::kTaken;
+    }
   }
   if (goals.empty()) {
     ++job->plan_outcomes["no_local_goal"];

@@ -331,6 +331,35 @@ TEST(NavigatorTest, AGoalPastAHairpinMayBeReachedHeadingStraightAtIt) {
   }
 }
 
+// When no candidate gives a path and the vehicle has none, nearer_goal_fraction adds one more try:
+// that fraction of the way to the best candidate, heading straight at it.
+TEST(NavigatorTest, WithNoPathWhileStandingAGoalPartOfTheWayIsTried) {
+  for (const double fraction : {0.0, 0.5}) {
+    Navigator::Config config = FlatConfig();
+    config.path_choice.nearer_goal_fraction = fraction;
+    std::vector<RecordingPlanner::Call> calls;
+    Navigator::Plugins plugins;
+    plugins.planner = std::make_unique<RecordingPlanner>(&calls);
+    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+    FirstCycle(&nav, FlatGroundScans(1));
+    const std::size_t candidates = static_cast<std::size_t>(config.path_choice.goal_candidates);
+    ASSERT_GE(calls.size(), 1u);
+    if (fraction == 0.0) {
+      EXPECT_LE(calls.size(), candidates);
+      continue;
+    }
+    ASSERT_GE(calls.size(), 2u);
+    const Pose2 best = calls.front().goal, nearer = calls.back().goal;
+    EXPECT_NEAR(nearer.x_m, 0.5 * best.x_m, 1e-9);
+    EXPECT_NEAR(nearer.y_m, 0.5 * best.y_m, 1e-9);
+    EXPECT_NEAR(nearer.yaw_rad, std::atan2(best.y_m, best.x_m), 1e-9);
+    EXPECT_FALSE(nav.has_path());
+  }
+  Navigator::Config bad = FlatConfig();
+  bad.path_choice.nearer_goal_fraction = 1.0;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
 // With a latency the cycle's path is driven from time_s + latency_s: it starts where the vehicle
 // will be then (here 1 m/s straight ahead for 0.1 s), not where it was when the cycle started.
 TEST(NavigatorTest, WithALatencyThePathStartsWhereTheVehicleWillBe) {

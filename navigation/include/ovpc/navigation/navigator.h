@@ -75,6 +75,11 @@ class Navigator {
     /// heading asks the vehicle to have turned already, which with its turning circle takes a loop or
     /// a three-point turn; the next goals turn it further. Infinite: off (the goal's heading only).
     double direct_heading_turn_deg = std::numeric_limits<double>::infinity();
+    /// When no candidate gives a path and the vehicle has none, a goal this fraction of the way to
+    /// the best candidate (heading straight at it, at least local_goal.min_distance_m away) is tried
+    /// too. Far ground is seen sparsely; from nearer, the sensor sees it well enough to stand on.
+    /// 0: off.
+    double nearer_goal_fraction = 0.0;
     /// The planner takes the ground under the vehicle's footprint, grown by this margin, as support
     /// for the wheels (the vehicle stands on it, though the sensor never sees it). Negative disables.
     double known_support_margin_m = 0.3;
@@ -110,6 +115,7 @@ class Navigator {
       v.Field(OVPC_FIELD(c, goal_candidates), "goals", "local goals tried per re-plan until one gives a path");
       v.Field(OVPC_FIELD(c, route_end_any_heading), "", "the route's end may be reached at any heading");
       v.Field(OVPC_FIELD(c, direct_heading_turn_deg), "deg", "a goal turned more than this may be reached heading straight at it; inf: off");
+      v.Field(OVPC_FIELD(c, nearer_goal_fraction), "", "with no path found while standing, try this fraction of the way to the best goal; 0: off");
       v.Field(OVPC_FIELD(c, known_support_margin_m), "m", "the vehicle stands on its unseen footprint grown by this");
       v.Field(OVPC_FIELD(c, keep_path_within_m), "m", "a periodic re-plan must be this much shorter; < 0: paper");
       v.Field(OVPC_FIELD(c, cusp_cost_m), "m", "a change of direction counts this many metres");
