@@ -322,9 +322,10 @@ planner::PoseCheck ColumnMap::CheckBox(const planner::GroundPose& ground, const 
       if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) continue;
       double distance = 0.0;
       const int nearest = Nearest3d(contact, vehicle.wheel_support_m, &distance);
-      if (nearest < 0 || !traversable_[static_cast<std::size_t>(nearest)]) return PoseCheck::kGroundUnderFootprint;
+      if (nearest < 0) return PoseCheck::kUnseenGround;
+      if (!traversable_[static_cast<std::size_t>(nearest)]) return PoseCheck::kGroundUnderFootprint;
       if (distance > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
-        return PoseCheck::kGroundUnderFootprint;
+        return PoseCheck::kUnseenGround;
       }
     }
   }

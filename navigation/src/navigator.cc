@@ -448,8 +448,7 @@ void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
     in.blocked_distance_m = (Eigen::Vector2d(at.pose.x_m, at.pose.y_m) - here_O).norm();
     if (config_.replan.unseen_block_near_m > 0.0) {
       const planner::PoseCheck why = planner::CheckPose(*c.map, box_, c.frame.ToL(at.pose));
-      in.blocked_by_unseen_ground =
-          why == planner::PoseCheck::kGroundUnderFootprint || why == planner::PoseCheck::kOutsideMap;
+      in.blocked_by_unseen_ground = planner::IsGroundCheck(why) || why == planner::PoseCheck::kOutsideMap;
     }
   }
   in.distance_to_goal_m = state.goal_O ? (here_O - *state.goal_O).norm() : 0.0;
@@ -479,7 +478,7 @@ void Navigator::FindEdgeAhead(Job* job, const Cycle& c) const {
     if (i > closest) {
       arc += (Eigen::Vector2d(poses[i].pose.x_m - poses[i - 1].pose.x_m, poses[i].pose.y_m - poses[i - 1].pose.y_m)).norm();
     }
-    if (planner::CheckPose(*c.map, looking, c.frame.ToL(poses[i].pose)) == planner::PoseCheck::kGroundUnderFootprint) {
+    if (planner::IsGroundCheck(planner::CheckPose(*c.map, looking, c.frame.ToL(poses[i].pose)))) {
       state.edge_O = Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m);
       return;
     }
@@ -595,6 +594,7 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
   attempt.has_goal = true;
   attempt.goal_L = goal.pose;
   attempt.goal_progress_m = goal.route_progress_m;
+  attempt.goal_is_look = goal.is_look;
   attempt.outcome = outcome;
   attempt.iterations = plan.iterations;
   attempt.state_checks = plan.state_checks;

@@ -79,6 +79,8 @@ const char* PoseCheckName(PoseCheck check) {
     case PoseCheck::kNotTraversable: return "not traversable";
     case PoseCheck::kCollision: return "collision";
     case PoseCheck::kGroundUnderFootprint: return "ground under footprint";
+    case PoseCheck::kUnseenGround: return "unseen ground";
+    case PoseCheck::kCrest: return "crest";
   }
   return "unknown";
 }
@@ -161,7 +163,7 @@ PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pos
   };
   if (on_wheels) {
     const std::optional<GroundPose> placed = PlaceOnWheels(map, vehicle, pose, *ground);
-    if (!placed) return PoseCheck::kGroundUnderFootprint;  // a wheel over unknown ground
+    if (!placed) return PoseCheck::kUnseenGround;  // a wheel over unknown ground
     if (placed->T_L_B.linear()(2, 2) < std::cos(vehicle.max_tilt_deg * kPi / 180.0)) return PoseCheck::kNotTraversable;
     if (tilts_too_far(*placed)) return PoseCheck::kNotTraversable;
     return map.CheckBox(*placed, vehicle);

@@ -260,19 +260,18 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
         const SupportRegion& r = ground_.known_support;
         const double along = support_cos_ * (contact.x() - r.pose.x_m) + support_sin_ * (contact.y() - r.pose.y_m);
         if (vehicle.crest_margin_m >= 0.0 && along > r.crest_from_x_m && OverUnseenDrop(ground, contact, vehicle)) {
-          return PoseCheck::kGroundUnderFootprint;
+          return PoseCheck::kCrest;
         }
         continue;
       }
       const auto nearest = cloud_.Nearest(contact);
       const double support_m = vehicle.WheelSupportAt(contact.head<2>().norm());
-      if (!nearest || nearest->distance_m > support_m || !cloud_.traversable()[nearest->index]) {
-        return PoseCheck::kGroundUnderFootprint;
-      }
+      if (!nearest || nearest->distance_m > support_m) return PoseCheck::kUnseenGround;
+      if (!cloud_.traversable()[nearest->index]) return PoseCheck::kGroundUnderFootprint;
       if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
-        return PoseCheck::kGroundUnderFootprint;
+        return PoseCheck::kUnseenGround;
       }
-      if (vehicle.crest_margin_m >= 0.0 && OverUnseenDrop(ground, contact, vehicle)) return PoseCheck::kGroundUnderFootprint;
+      if (vehicle.crest_margin_m >= 0.0 && OverUnseenDrop(ground, contact, vehicle)) return PoseCheck::kCrest;
     }
   }
   return PoseCheck::kValid;

@@ -139,39 +139,69 @@ std::string ReadMapAhead(const RunResult& r) {
   return out;
 }
 
-// The planner in the run's last 30 s: local goals tried, plans found, paths blocked and by what.
+// "a 3, b 1" from counts, commonest first (ties by name), at most `most` of them.
+std::string CountsText(const std::map<std::string, std::size_t>& counts, std::size_t most, const std::string& unit) {
+  std::vector<std::pair<std::string, std::size_t>> sorted(counts.begin(), counts.end());
+  std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string out;
+  for (std::size_t i = 0; i < sorted.size() && i < most; ++i) {
+    out += (i ? ", " : "") + std::to_string(sorted[i].second) + unit + " " + sorted[i].first;
+  }
+  return out;
+}
+
+// The planner in the run's last 30 s: local goals tried (and how many were places to look from),
+// plans found, failed and why, paths blocked and by what, and which checks rejected the sampled
+// states (a crest, unseen ground, a steep face, an obstacle).
 std::string ReadPlannerLately(const RunResult& r) {
   if (r.plan_log.empty() || r.trajectory.empty()) return "";
   const double from_s = r.trajectory.back().time_s - kWindowS;
-  std::size_t calls = 0, found = 0, blocked = 0, no_goal = 0;
-  std::map<std::string, std::size_t> blocked_by;
+  std::size_t calls = 0, found = 0, blocked = 0, no_goal = 0, looks = 0;
+  std::map<std::string, std::size_t> blocked_by, failed;
+  std::array<std::size_t, planner::kNumPoseChecks> rejected{};
   double nearest_goal = 1e9, farthest_goal = 0.0;
   for (const PlanRecord& record : r.plan_log) {
     const navigation::PlanAttempt& p = record.attempt;
     if (p.time_s < from_s) continue;
     ++calls;
     if (p.outcome == "found" || p.outcome == "kept current") ++found;
+    else if (p.has_goal) ++failed[p.outcome];
     if (!p.has_goal) ++no_goal;
     if (!p.blocked_by.empty()) ++blocked, ++blocked_by[p.blocked_by];
     if (p.has_goal) {
       const double d = (record.GoalW().head<2>() - record.VehicleW().head<2>()).norm();
       nearest_goal = std::min(nearest_goal, d);
       farthest_goal = std::max(farthest_goal, d);
+      if (p.goal_is_look) ++looks;
     }
+    for (std::size_t c = 1; c < planner::kNumPoseChecks; ++c) rejected[c] += p.state_checks[c];
   }
   if (calls == 0) return "";
   std::ostringstream s;
   s << calls << " plans in the last 30 s, " << found << " found";
-  if (calls > no_goal) s << ", goals " << Fixed(nearest_goal, 1) << "-" << Fixed(farthest_goal, 1) << " m away";
+  if (calls > no_goal) {
+    s << ", goals " << Fixed(nearest_goal, 1) << "-" << Fixed(farthest_goal, 1) << " m away";
+    if (looks > 0) s << " (" << looks << " of them places to look from, where seen ground ends)";
+  }
   if (no_goal > 0) s << ", " << no_goal << " without a local goal";
+  if (!failed.empty()) s << ", failed: " << CountsText(failed, 3, "");
   if (blocked > 0) {
     const auto most = std::max_element(blocked_by.begin(), blocked_by.end(),
                                        [](const auto& a, const auto& b) { return a.second < b.second; });
     s << ", " << blocked << " paths blocked (mostly " << most->first << ")";
   }
+  std::size_t total = 0;
+  for (std::size_t n : rejected) total += n;
+  if (total > 0) {
+    std::map<std::string, std::size_t> percent;
+    for (std::size_t c = 1; c < planner::kNumPoseChecks; ++c) {
+      const std::size_t pc = (100 * rejected[c] + total / 2) / total;
+      if (pc >= 5) percent[planner::PoseCheckName(static_cast<planner::PoseCheck>(c))] = pc;
+    }
+    if (!percent.empty()) s << ", sampled states rejected as " << CountsText(percent, 3, " %");
+  }
   return s.str();
 }
-
 
 // Stretches of standing of at least kStalledS.
 void FindStalls(const std::vector<TrajectorySample>& t, std::vector<Spell>* spells) {

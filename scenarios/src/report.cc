@@ -158,8 +158,8 @@ void WriteCyclesCsv(const RunResult& r, const std::string& path) {
 void WritePlansCsv(const RunResult& r, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot open for writing");
-  out << "time_s,reason,blocked_at_m,blocked_by,vehicle_x_m,vehicle_y_m,vehicle_yaw_rad,goal_x_m,goal_y_m,goal_yaw_rad,goal_progress_m,outcome,"
-         "iterations";
+  out << "time_s,reason,blocked_at_m,blocked_by,vehicle_x_m,vehicle_y_m,vehicle_yaw_rad,goal_x_m,goal_y_m,goal_yaw_rad,goal_progress_m,"
+         "goal_is_look,outcome,iterations";
   for (std::size_t c = 0; c < planner::kNumPoseChecks; ++c) {
     std::string name = planner::PoseCheckName(static_cast<planner::PoseCheck>(c));
     std::replace(name.begin(), name.end(), ' ', '_');
@@ -173,9 +173,9 @@ void WritePlansCsv(const RunResult& r, const std::string& path) {
         << vehicle_W.y() << "," << vehicle_W.z() << ",";
     if (p.has_goal) {
       const Eigen::Vector3d goal_W = record.GoalW();
-      out << goal_W.x() << "," << goal_W.y() << "," << goal_W.z() << "," << p.goal_progress_m;
+      out << goal_W.x() << "," << goal_W.y() << "," << goal_W.z() << "," << p.goal_progress_m << "," << (p.goal_is_look ? 1 : 0);
     } else {
-      out << ",,,";
+      out << ",,,,";
     }
     out << "," << p.outcome << "," << p.iterations;
     for (std::size_t n : p.state_checks) out << "," << n;

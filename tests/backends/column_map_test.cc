@@ -180,7 +180,7 @@ TEST(OctoMapColumnsTest, VehicleBoxRulesWorkThroughThePlanningMap) {
   EXPECT_EQ(planner::CheckPose(*map, wheels, Pose2{1.0, 4.0, 0.0}), PoseCheck::kValid);
   // Heading -y past the wall's end: the body is clear of the wall, but a front wheel stands 0.8 m
   // deep in its shadow, where no ground was seen.
-  EXPECT_EQ(planner::CheckPose(*map, wheels, Pose2{7.0, 3.9, -kPi / 2}), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(planner::CheckPose(*map, wheels, Pose2{7.0, 3.9, -kPi / 2}), PoseCheck::kUnseenGround);
   EXPECT_EQ(planner::CheckPose(*map, wheels, Pose2{7.0, 5.5, -kPi / 2}), PoseCheck::kValid) << "all wheels on seen ground";
   // Across a 15 deg ramp the vehicle rolls 15 deg.
   const auto ramp = OctoMapOf(Ramp(15.0));

@@ -127,7 +127,7 @@ TEST(VertexCloudMapTest, WheelRuleLetsLowNonTraversablePointsPassBetweenTheWheel
 
   // A hole (no visible point within wheel_support_m) under the left front wheel.
   const VertexCloudMap hole = FlatGround(none, [](double x, double y) { return std::hypot(x - 1.9, y - 0.6) < 0.7; });
-  EXPECT_EQ(CheckPose(hole, wheels, pose), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(hole, wheels, pose), PoseCheck::kUnseenGround);
   // The hole is beside the pose's origin, which still projects onto the ground.
   EXPECT_TRUE(hole.Project(pose).has_value());
 
@@ -148,7 +148,7 @@ TEST(VertexCloudMapTest, EdgeToleranceKeepsTheWheelsOffGroundPastTheLastSeen) {
   const auto none = [](double, double) { return false; };
   const VertexCloudMap edge = FlatGround(none, [](double x, double) { return x > 1.65; });
   EXPECT_EQ(CheckPose(edge, wheels, pose), PoseCheck::kValid);
-  EXPECT_EQ(CheckPose(edge, careful, pose), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(edge, careful, pose), PoseCheck::kUnseenGround);
   const VertexCloudMap shadow = FlatGround(none, [](double x, double) { return x > 1.65 && x < 2.15; });
   EXPECT_EQ(CheckPose(shadow, careful, pose), PoseCheck::kValid);
   // On seen ground the tolerance changes nothing.
@@ -174,7 +174,7 @@ TEST(VertexCloudMapTest, WheelSupportGrowsWithTheDistanceFromTheSensor) {
   const Pose2 near_pose{0.0, 0.0, 0.0};  // front wheels at (1.9, +-0.6), 2.0 m from the sensor
   const VertexCloudMap near_edge = FlatGround(none, [](double x, double) { return x > 1.65; });
   EXPECT_EQ(CheckPose(near_edge, fixed, near_pose), PoseCheck::kValid);
-  EXPECT_EQ(CheckPose(near_edge, growing, near_pose), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(near_edge, growing, near_pose), PoseCheck::kUnseenGround);
   const Pose2 far_pose{4.1, 0.0, 0.0};  // front wheels at (6.0, +-0.6), 6.03 m from the sensor
   const VertexCloudMap far_edge = FlatGround(none, [](double x, double) { return x > 5.75; });
   EXPECT_EQ(CheckPose(far_edge, fixed, far_pose), PoseCheck::kValid);
@@ -239,13 +239,13 @@ TEST(VertexCloudMapTest, CrestTestKeepsTheWheelsOffALipTheSensorHasSeenPast) {
   const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6
   const VertexCloudMap past = DitchOrRamp(1.85, false);
   EXPECT_EQ(CheckPose(past, wheels, pose), PoseCheck::kValid);
-  EXPECT_EQ(CheckPose(past, crest, pose), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(past, crest, pose), PoseCheck::kCrest);
   EXPECT_EQ(CheckPose(DitchOrRamp(2.3, false), crest, pose), PoseCheck::kValid);
   // Turned 29 deg to the right, the front wheels stand at x = 1.96 (left) and 1.38 (right).
   const Pose2 turned{0.0, 0.0, -0.5};
   EXPECT_EQ(CheckPose(DitchOrRamp(2.3, false), crest, turned), PoseCheck::kValid);
   EXPECT_EQ(CheckPose(DitchOrRamp(1.9, false), wheels, turned), PoseCheck::kValid);
-  EXPECT_EQ(CheckPose(DitchOrRamp(1.9, false), crest, turned), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(DitchOrRamp(1.9, false), crest, turned), PoseCheck::kCrest);
   // Down a seen ramp: the ground beyond the wheels is seen.
   EXPECT_EQ(CheckPose(DitchOrRamp(1.85, true), crest, pose), PoseCheck::kValid);
   EXPECT_EQ(CheckPose(DitchOrRamp(1.0, true), crest, pose), PoseCheck::kValid);
@@ -292,7 +292,7 @@ TEST(VertexCloudMapTest, TheFootprintPriorsGroundDoesNotCarryAWheelPastALip) {
   const Pose2 on{0.3, 0.0, 0.0};
   const VertexCloudMap with_prior(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, prior);
   EXPECT_EQ(CheckPose(with_prior, crest, pose), PoseCheck::kValid) << "where it stands";
-  EXPECT_EQ(CheckPose(with_prior, crest, on), PoseCheck::kGroundUnderFootprint);
+  EXPECT_EQ(CheckPose(with_prior, crest, on), PoseCheck::kCrest);
   prior.known_support = SupportRegion{};
   const VertexCloudMap seen(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, prior);
   EXPECT_EQ(CheckPose(seen, crest, on), PoseCheck::kValid) << "the same ground, seen, carries it";

@@ -116,6 +116,39 @@ TEST(DiagnosisTest, SaysWhatTheMapHeldAheadWhereTheRunEnded) {
   EXPECT_NE(crest.planner_lately.find("plans in the last 30 s"), std::string::npos) << crest.planner_lately;
 }
 
+// Near the end the planner goes to places to look from at a crest, its states mostly fail the crest
+// test, and a goal past the crest is rejected: the diagnosis names each.
+TEST(DiagnosisTest, SaysWhatThePlannerRejectedLately) {
+  RunResult r = MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; });
+  PlanRecord look, past, blocked;
+  look.attempt.time_s = 40.0;
+  look.attempt.has_goal = true;
+  look.attempt.goal_is_look = true;
+  look.attempt.goal_L = {2.0, 0.0, 0.0};
+  look.attempt.outcome = "found";
+  look.attempt.state_checks[static_cast<std::size_t>(planner::PoseCheck::kCrest)] = 70;
+  look.attempt.state_checks[static_cast<std::size_t>(planner::PoseCheck::kUnseenGround)] = 20;
+  look.attempt.state_checks[static_cast<std::size_t>(planner::PoseCheck::kCollision)] = 2;
+  past = look;
+  past.attempt.goal_is_look = false;
+  past.attempt.goal_L = {6.0, 0.0, 0.0};
+  past.attempt.outcome = "goal invalid:crest";
+  blocked = look;
+  blocked.attempt.blocked_by = "crest";
+  r.plan_log.insert(r.plan_log.end(), {look, look, past, blocked});
+  const Diagnosis d = Diagnose(r);
+  // The made-up run's failed start at t = 30 s lies in the last 30 s too (no goal: not a goal's failure).
+  EXPECT_NE(d.planner_lately.find("6 plans in the last 30 s, 3 found"), std::string::npos) << d.planner_lately;
+  EXPECT_NE(d.planner_lately.find("(3 of them places to look from"), std::string::npos) << d.planner_lately;
+  EXPECT_NE(d.planner_lately.find("failed: 1 goal invalid:crest"), std::string::npos) << d.planner_lately;
+  EXPECT_NE(d.planner_lately.find("1 paths blocked (mostly crest)"), std::string::npos) << d.planner_lately;
+  // 4 x (70 crest + 20 unseen + 2 collision) + 2 x (40 collision + 90 footprint) = 280 + 80 + 88 + 180 of 628.
+  EXPECT_NE(d.planner_lately.find("sampled states rejected as 45 % crest, 29 % ground under footprint, 14 % collision"),
+            std::string::npos)
+      << d.planner_lately;
+  EXPECT_NE(d.summary.find("the planner there: "), std::string::npos) << d.summary;
+}
+
 }  // namespace
 }  // namespace ovpc::scenarios
 

@@ -48,6 +48,7 @@ struct PlanAttempt {
   bool has_goal = false;             ///< false: no local goal qualified ("no_local_goal")
   planner::Pose2 goal_L;
   double goal_progress_m = 0.0;      ///< route progress of the local goal
+  bool goal_is_look = false;         ///< the goal is a place to look from: seen ground ends just past it
   std::string outcome;               ///< "found", "no_path", "start_invalid:collision", "no_local_goal", ...
   unsigned iterations = 0;
   std::array<std::size_t, planner::kNumPoseChecks> state_checks{};  ///< by planner::PoseCheck

@@ -150,9 +150,21 @@ enum class PoseCheck {
   kOutsideMap,      ///< outside the bounds or no map point close enough below the pose
   kNotTraversable,  ///< projected onto a non-traversable point
   kCollision,       ///< a map point inside the box, above the ground clearance
-  kGroundUnderFootprint,  ///< a non-traversable point under the footprint
+  kGroundUnderFootprint,  ///< a non-traversable point under the footprint or a wheel (a steep face)
+  /// A wheel without seen traversable ground: none within its support, or none at or beyond it
+  /// from the viewpoint (an edge, a shadow, ground not yet seen).
+  kUnseenGround,
+  /// The crest test (VehicleBox::crest_margin_m): the ground a wheel stands on falls out of sight
+  /// just beyond it, with no seen ground there to carry it.
+  kCrest,
 };
-inline constexpr std::size_t kNumPoseChecks = 5;
+inline constexpr std::size_t kNumPoseChecks = 7;
+
+/// The checks that find the ground under the wheels wanting (not traversable, unseen, a crest),
+/// as against an obstacle in the box or a pose off the map.
+inline bool IsGroundCheck(PoseCheck check) {
+  return check == PoseCheck::kGroundUnderFootprint || check == PoseCheck::kUnseenGround || check == PoseCheck::kCrest;
+}
 
 /// What the planner needs from a map. Implemented for the OVPC vertex cloud (VertexCloudMap); an
 /// OctoMap or a 2.5D grid can implement it too, for closed-loop comparisons. Implementations must be
@@ -168,7 +180,9 @@ class PlanningMap {
   virtual std::optional<GroundPose> ProjectForBox(const Pose2& pose) const { return Project(pose); }
   /// kValid if the vehicle box at `ground` holds no map point above the ground clearance
   /// (kCollision otherwise) and no non-traversable point lies under its footprint
-  /// (kGroundUnderFootprint otherwise). When both hold, the collision is reported.
+  /// (kGroundUnderFootprint otherwise); with the wheel checks, each wheel on seen traversable ground
+  /// (kGroundUnderFootprint, kUnseenGround or kCrest otherwise). When several hold, the collision is
+  /// reported.
   virtual PoseCheck CheckBox(const GroundPose& ground, const VehicleBox& vehicle) const = 0;
   bool IsBoxFree(const GroundPose& ground, const VehicleBox& vehicle) const {
     return CheckBox(ground, vehicle) == PoseCheck::kValid;

@@ -29,7 +29,7 @@ struct Replanning {
     int blocked_confirmations = 1;
     double blocked_near_m = 0.0;
     /// A path blocked only by ground not yet seen well enough to stand a wheel on (the first blocked
-    /// pose fails as kGroundUnderFootprint or kOutsideMap, not as an obstacle) triggers a re-plan only
+    /// pose fails a ground check (IsGroundCheck) or kOutsideMap, not as an obstacle) triggers a re-plan only
     /// once that pose is nearer than this: far ahead the ground is sparse and fills in as the vehicle
     /// comes closer, and a new path at every map update, each starting another way, rocks the vehicle
     /// on the spot. Up to the block the path is still valid. 0: every block triggers (the paper's
