@@ -81,6 +81,7 @@ const char* PoseCheckName(PoseCheck check) {
     case PoseCheck::kGroundUnderFootprint: return "ground under footprint";
     case PoseCheck::kUnseenGround: return "unseen ground";
     case PoseCheck::kCrest: return "crest";
+    case PoseCheck::kTiltsTooFar: return "tilts too far";
   }
   return "unknown";
 }
@@ -164,11 +165,11 @@ PoseCheck CheckPose(const PlanningMap& map, const VehicleBox& vehicle, const Pos
   if (on_wheels) {
     const std::optional<GroundPose> placed = PlaceOnWheels(map, vehicle, pose, *ground);
     if (!placed) return PoseCheck::kUnseenGround;  // a wheel over unknown ground
-    if (placed->T_L_B.linear()(2, 2) < std::cos(vehicle.max_tilt_deg * kPi / 180.0)) return PoseCheck::kNotTraversable;
-    if (tilts_too_far(*placed)) return PoseCheck::kNotTraversable;
+    if (placed->T_L_B.linear()(2, 2) < std::cos(vehicle.max_tilt_deg * kPi / 180.0)) return PoseCheck::kTiltsTooFar;
+    if (tilts_too_far(*placed)) return PoseCheck::kTiltsTooFar;
     return map.CheckBox(*placed, vehicle);
   }
-  if (tilts_too_far(*ground)) return PoseCheck::kNotTraversable;
+  if (tilts_too_far(*ground)) return PoseCheck::kTiltsTooFar;
   return map.CheckBox(*ground, vehicle);
 }
 

@@ -97,6 +97,10 @@ std::string ReadMapAhead(const RunResult& r) {
   dir.normalize();
   const Eigen::Vector2d side(-dir.y(), dir.x());
   const double z0 = T_W_B.translation().z();
+  // Heights are taken from the vehicle's ground continued sideways at its roll: across a slope the
+  // downhill side is not a drop.
+  const Eigen::Vector3d n = T_W_B.linear().col(2);
+  const double side_grade = n.z() > 1e-6 ? -(n.x() * side.x() + n.y() * side.y()) / n.z() : 0.0;
   // The corridor: from the rear axle to 6 m ahead, 1.5 m to either side (the vehicle and a margin).
   constexpr double kAheadM = 6.0, kHalfWidthM = 1.5, kClearanceM = 0.35, kDropM = 0.5;
   double obstacle_at = kAheadM + 1, obstacle_h = 0.0, drop_at = kAheadM + 1, drop_h = 0.0, rough_at = kAheadM + 1;
@@ -104,7 +108,7 @@ std::string ReadMapAhead(const RunResult& r) {
   std::size_t ground = 0, non_traversable_ground = 0;
   for (const MapPoint& p : r.last_map_points) {
     const Eigen::Vector2d d = p.position_W.head<2>() - at;
-    const double along = d.dot(dir), across = d.dot(side), h = p.position_W.z() - z0;
+    const double along = d.dot(dir), across = d.dot(side), h = p.position_W.z() - z0 - across * side_grade;
     if (along < 0.0 || along > kAheadM || std::abs(across) > kHalfWidthM) continue;
     if (h > kClearanceM && !p.traversable) {
       if (along < obstacle_at) obstacle_at = along, obstacle_h = h;
@@ -120,7 +124,7 @@ std::string ReadMapAhead(const RunResult& r) {
   // The obstacle's height: its highest point within half a metre behind its nearest.
   for (const MapPoint& p : r.last_map_points) {
     const Eigen::Vector2d d = p.position_W.head<2>() - at;
-    const double along = d.dot(dir), h = p.position_W.z() - z0;
+    const double along = d.dot(dir), h = p.position_W.z() - z0 - d.dot(side) * side_grade;
     if (!p.traversable && h > kClearanceM && std::abs(d.dot(side)) <= kHalfWidthM && along >= obstacle_at &&
         along <= obstacle_at + 0.5) {
       obstacle_h = std::max(obstacle_h, h);

@@ -187,7 +187,7 @@ TEST(OctoMapColumnsTest, VehicleBoxRulesWorkThroughThePlanningMap) {
   planner::VehicleBox roll = wheels;
   EXPECT_EQ(planner::CheckPose(*ramp, roll, Pose2{6.0, -1.0, kPi / 2}), PoseCheck::kValid);
   roll.max_roll_deg = 12.0;
-  EXPECT_EQ(planner::CheckPose(*ramp, roll, Pose2{6.0, -1.0, kPi / 2}), PoseCheck::kNotTraversable);
+  EXPECT_EQ(planner::CheckPose(*ramp, roll, Pose2{6.0, -1.0, kPi / 2}), PoseCheck::kTiltsTooFar);
 }
 
 TEST(OctoMapColumnsTest, CoarseVoxelsStillFindGroundUnderTheRoof) {
@@ -256,7 +256,7 @@ TEST(ElevationColumnsTest, VehicleBoxRulesWorkThroughThePlanningMap) {
   roll.placement = planner::VehicleBox::Placement::kWheelContacts;
   EXPECT_EQ(planner::CheckPose(*ramp, roll, Pose2{6.0, -1.0, kPi / 2}), PoseCheck::kValid);
   roll.max_roll_deg = 12.0;
-  EXPECT_EQ(planner::CheckPose(*ramp, roll, Pose2{6.0, -1.0, kPi / 2}), PoseCheck::kNotTraversable);
+  EXPECT_EQ(planner::CheckPose(*ramp, roll, Pose2{6.0, -1.0, kPi / 2}), PoseCheck::kTiltsTooFar);
 }
 
 TEST(ColumnMapTest, AnEmptyOrMismatchedGridIsHandled) {

@@ -421,7 +421,7 @@ TEST(VertexCloudMapTest, WheelPlacementStillStopsAtASteepRampAndAStep) {
   VehicleBox strict = wheels;
   strict.max_tilt_deg = 10.0;
   const PlanningScene ramp = LongRamp(20.0, -3.6);
-  EXPECT_EQ(CheckPose(*ramp.map, strict, Pose2{1.0, 0.0, 0.0}), PoseCheck::kNotTraversable);
+  EXPECT_EQ(CheckPose(*ramp.map, strict, Pose2{1.0, 0.0, 0.0}), PoseCheck::kTiltsTooFar);
   EXPECT_EQ(CheckPose(*ramp.map, wheels, Pose2{1.0, 0.0, 0.0}), PoseCheck::kValid);
 
   // A 0.5 m step (a wall across the way): driving at it, some pose collides or stands on its edge.
@@ -459,7 +459,7 @@ TEST(VertexCloudMapTest, RollLimitKeepsTheVehicleNearTheFallLineOnARamp) {
       if (std::abs(off_deg) < 30.0) {
         EXPECT_EQ(check, PoseCheck::kValid) << off_deg;
       } else {
-        EXPECT_EQ(check, PoseCheck::kNotTraversable) << off_deg;
+        EXPECT_EQ(check, PoseCheck::kTiltsTooFar) << off_deg;
       }
     }
   }
@@ -491,7 +491,7 @@ TEST(VertexCloudMapTest, NoseDownLimitRefusesFacingDownASteepSlopeOnly) {
     for (const Case c : {Case{0.0, false}, Case{90.0, false}, Case{-90.0, false}, Case{180.0, true}, Case{160.0, true}, Case{120.0, false}}) {
       const Pose2 pose{2.0, 0.0, DegToRad(c.yaw_deg)};
       EXPECT_EQ(CheckPose(*steep.map, free_pitch, pose), PoseCheck::kValid) << c.yaw_deg;
-      EXPECT_EQ(CheckPose(*steep.map, limited, pose), c.down ? PoseCheck::kNotTraversable : PoseCheck::kValid) << c.yaw_deg;
+      EXPECT_EQ(CheckPose(*steep.map, limited, pose), c.down ? PoseCheck::kTiltsTooFar : PoseCheck::kValid) << c.yaw_deg;
       EXPECT_EQ(CheckPose(*gentle.map, limited, pose), PoseCheck::kValid) << c.yaw_deg;
     }
   }

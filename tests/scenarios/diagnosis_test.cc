@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 namespace ovpc::scenarios {
@@ -114,6 +115,22 @@ TEST(DiagnosisTest, SaysWhatTheMapHeldAheadWhereTheRunEnded) {
   EXPECT_EQ(DiagnoseWithMap(30.0, [](std::vector<MapPoint>*) {}).map_ahead, "");
   // The planner's last 30 s: the made-up run's failed attempt at t = 30 s lies in them.
   EXPECT_NE(crest.planner_lately.find("plans in the last 30 s"), std::string::npos) << crest.planner_lately;
+}
+
+// Standing rolled 20 degrees across a slope, the ground falls away on the downhill side as the slope
+// does: that is not a drop ahead. A drop below the slope's own plane still is.
+TEST(DiagnosisTest, TheDownhillSideOfACrossSlopeIsNoDrop) {
+  const double roll = 20.0 * M_PI / 180.0;
+  RunResult r = MadeUpRun(60.0, [](double t) { return t < 20.0 ? 1.0 : 0.0; });
+  for (TrajectorySample& s : r.trajectory) s.T_W_B.linear() = Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  r.route_m = {{0.0, 0.0}, {60.0, 0.0}};
+  r.route_progress_m = 20.0;
+  for (double x = 18.0; x <= 30.0 + 1e-9; x += 0.25) {
+    for (double y = -2.0; y <= 2.0; y += 0.25) r.last_map_points.push_back({Vec3(x, y, y * std::tan(roll)), true});
+  }
+  EXPECT_EQ(Diagnose(r).map_ahead, "");
+  r.last_map_points.push_back({Vec3(24.0, -1.0, -std::tan(roll) - 1.2), true});
+  EXPECT_NE(Diagnose(r).map_ahead.find("ground 1.2 m lower 4.0 m ahead"), std::string::npos) << Diagnose(r).map_ahead;
 }
 
 // Near the end the planner goes to places to look from at a crest, its states mostly fail the crest

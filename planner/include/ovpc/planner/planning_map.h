@@ -157,8 +157,11 @@ enum class PoseCheck {
   /// The crest test (VehicleBox::crest_margin_m): the ground a wheel stands on falls out of sight
   /// just beyond it, with no seen ground there to carry it.
   kCrest,
+  /// The box placed on the ground tilts past max_tilt_deg, rolls past max_roll_deg or points its
+  /// nose down past max_nose_down_deg (a cross slope, a turn on a ramp's face).
+  kTiltsTooFar,
 };
-inline constexpr std::size_t kNumPoseChecks = 7;
+inline constexpr std::size_t kNumPoseChecks = 8;
 
 /// The checks that find the ground under the wheels wanting (not traversable, unseen, a crest),
 /// as against an obstacle in the box or a pose off the map.
