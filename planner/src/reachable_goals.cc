@@ -76,7 +76,13 @@ void ReachableGoals::ClassifyCells() {
       const std::optional<GroundPose> g = map_.Project(Pose2{c.x(), c.y(), 0.0});
       if (!g) continue;
       if (g->traversable) {
-        if ((g->surface_point.head<2>() - c).norm() <= config_.reach_support_m) {
+        // Known ground is ground a wheel could stand on: with the wheel rule, no farther from a
+        // visible point than the wheel's support there (VehicleBox::WheelSupportAt).
+        double support = config_.reach_support_m;
+        if (vehicle_.footprint_check == VehicleBox::FootprintCheck::kWheels) {
+          support = std::min(support, vehicle_.WheelSupportAt(c.norm()));
+        }
+        if ((g->surface_point.head<2>() - c).norm() <= support) {
           state_[Index(ix, iy)] = map_.CheckBox(*g, column) == PoseCheck::kCollision ? kOverhead : kFree;
         }
       } else if ((g->surface_point.head<2>() - c).cwiseAbs().maxCoeff() <= 0.5 * cell_) {
