@@ -35,7 +35,9 @@ struct LocalGoalSelection {
     /// within this distance of it (in the plane). The planner stands a wheel only within the vehicle's
     /// wheel_support_m of a visible point, so with that value the reach stays on ground the planner
     /// can plan over; far from the sensor the ground is sparse, and a goal reached over it is often
-    /// one no path leads to. Infinite: any distance (the nearest point decides).
+    /// one no path leads to. With the wheel rule (VehicleBox::FootprintCheck::kWheels) the distance is
+    /// also at most the wheel's support at the cell (VehicleBox::WheelSupportAt, smaller near the
+    /// sensor). Infinite: any distance (the nearest point decides).
     double reach_support_m = std::numeric_limits<double>::infinity();
     /// kReachable: candidates also score this many metres per metre away from the previous goal, so
     /// that of two ways round an obstacle about as good (a roof across the route, both sides unseen)
