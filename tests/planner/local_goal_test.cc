@@ -525,6 +525,46 @@ TEST(LocalGoalTest, ReachableGoalStaysOnGroundDenseEnoughToStandOn) {
 }
 
 
+// A band 1.4 m wide without points across the route (a swale's floor and near wall, seen only at a
+// grazing angle), between dense ground on both sides. Its middle cells lie 0.45 m from the nearest
+// point: within reach_support_m (0.5 m), but beyond the 0.35 m a wheel stands within near the sensor
+// with the wheel rule. The reach then stops at the band, as the planner's wheels do, so no goal lies
+// past ground no path crosses; with the footprint rule (no wheel support) it crosses the band.
+TEST(LocalGoalTest, ReachableGoalCrossesNoBandTheWheelsCannotStandIn) {
+  Points points;
+  for (int i = -50; i <= 50; ++i) {
+    for (int j = -30; j <= 30; ++j) {
+      const double x = 0.2 * i;
+      if (x > 1.85 && x < 3.15) continue;  // the band: points at x = 1.8 and 3.2 either side of it
+      points.emplace_back(x, 0.2 * j, 0.0);
+    }
+  }
+  const std::vector<Vec3> normals(points.size(), Vec3::UnitZ());
+  VertexCloudMap::Config map_config;
+  map_config.max_projection_distance_m = 1.2;  // the band's middle projects onto ground beside it
+  const VertexCloudMap map(TraversabilityCloud(points, normals, std::vector<std::uint8_t>(points.size(), 1)),
+                           map_config);
+  const std::vector<Eigen::Vector2d> route = {{-10.0, 0.0}, {40.0, 0.0}};
+  const Pose2 start{-3.0, 0.0, 0.0};
+  LocalGoalSelection::Config config;
+  config.mode = LocalGoalSelection::Config::Mode::kReachable;
+  config.reach_support_m = 0.5;
+  VehicleBox footprint;  // every point under the footprint: no wheel support
+  const auto across = SelectLocalGoal(map, footprint, route, kIdentity, start, config);
+  ASSERT_TRUE(across.has_value());
+  EXPECT_GT(across->pose.x_m, 3.2);
+  VehicleBox wheels = footprint;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  wheels.wheel_support_m = 0.5;
+  wheels.wheel_support_per_m = 0.05;
+  wheels.wheel_support_near_m = 0.35;
+  EXPECT_EQ(CheckPose(map, wheels, Pose2{0.6, 0.0, 0.0}), PoseCheck::kUnseenGround) << "the front wheels in the band";
+  const auto before = SelectLocalGoal(map, wheels, route, kIdentity, start, config);
+  ASSERT_TRUE(before.has_value());
+  EXPECT_LT(before->pose.x_m, 1.85);
+  EXPECT_EQ(CheckPose(map, wheels, before->pose), PoseCheck::kValid);
+}
+
 // Flat traversable ground over x in [-10, xmax], y in [-10, 10], with a roof too low for the vehicle
 // over x in [x0, x1], |y| <= 3: the ground under it is seen and traversable, but a box there
 // collides.
