@@ -259,9 +259,15 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
         // Where the vehicle stands; ahead of its front wheels only the crest test still applies.
         const SupportRegion& r = ground_.known_support;
         const double along = support_cos_ * (contact.x() - r.pose.x_m) + support_sin_ * (contact.y() - r.pose.y_m);
-        if (vehicle.crest_margin_m >= 0.0 && along > r.crest_from_x_m && OverUnseenDrop(ground, contact, vehicle)) {
-          return PoseCheck::kCrest;
+        if (!(along > r.crest_from_x_m)) continue;
+        // Under the nose the vehicle does not stand: seen steep ground there (a ditch's wall just
+        // below its lip) carries no wheel.
+        const auto nearest = cloud_.Nearest(contact);
+        if (nearest && nearest->distance_m <= vehicle.WheelSupportAt(contact.head<2>().norm()) &&
+            !cloud_.traversable()[nearest->index]) {
+          return PoseCheck::kGroundUnderFootprint;
         }
+        if (vehicle.crest_margin_m >= 0.0 && OverUnseenDrop(ground, contact, vehicle)) return PoseCheck::kCrest;
         continue;
       }
       const auto nearest = cloud_.Nearest(contact);

@@ -298,6 +298,47 @@ TEST(VertexCloudMapTest, TheFootprintPriorsGroundDoesNotCarryAWheelPastALip) {
   EXPECT_EQ(CheckPose(seen, crest, on), PoseCheck::kValid) << "the same ground, seen, carries it";
 }
 
+// The known support reaches 0.75 m past the vehicle's front wheels (its nose and a margin), where it
+// does not stand. A ditch's lip lies 0.2 m ahead of the front wheels and the top 0.2 m of its 45 deg
+// near wall is seen, steep, below it; nothing beyond is seen, so the crest test has no ray to go by.
+// A pose 0.5 m on puts the front wheels 0.3 m past the lip: refused, as it would be outside the
+// region. 0.1 m on, the wheels still stand on the rim.
+TEST(VertexCloudMapTest, SteepGroundSeenUnderTheNoseCarriesNoWheel) {
+  VehicleBox crest;
+  crest.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  crest.placement = VehicleBox::Placement::kWheelContacts;
+  crest.crest_margin_m = 0.2;
+  crest.ground_clearance_m = 0.35;  // the preset's: the box on its wheels clears the lip
+  const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6
+  GroundContext context;
+  context.ground_reference_z_m = -1.9;
+  context.known_support.pose = pose;
+  context.known_support.min_x_m = -0.75;
+  context.known_support.max_x_m = 2.65;
+  context.known_support.half_width_m = 1.05;
+  context.known_support.crest_from_x_m = 1.92;
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  const auto add_row = [&](double x, double z, bool ok) {
+    for (int j = -30; j <= 30; ++j) {
+      points.emplace_back(x, 0.1 * j, z);
+      normals.push_back(ok ? Vec3::UnitZ() : Vec3(std::sqrt(0.5), 0.0, std::sqrt(0.5)));
+      traversable.push_back(ok ? 1 : 0);
+    }
+  };
+  for (int i = -40; i <= 21; ++i) add_row(0.1 * i, -1.9, true);  // up to the lip at x = 2.1
+  add_row(2.15, -1.95, false);  // the top of the near wall
+  add_row(2.25, -2.05, false);
+  const VertexCloudMap map(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, context);
+  EXPECT_EQ(CheckPose(map, crest, pose), PoseCheck::kValid) << "where it stands";
+  EXPECT_EQ(CheckPose(map, crest, Pose2{0.1, 0.0, 0.0}), PoseCheck::kValid) << "front wheels on the rim";
+  EXPECT_EQ(CheckPose(map, crest, Pose2{0.5, 0.0, 0.0}), PoseCheck::kGroundUnderFootprint);
+  context.known_support = SupportRegion{};
+  const VertexCloudMap outside(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, context);
+  EXPECT_EQ(CheckPose(outside, crest, Pose2{0.5, 0.0, 0.0}), PoseCheck::kGroundUnderFootprint) << "as outside";
+}
+
 // The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
 // there; obstacles in the box still block, and wheels outside the region still need support.
 TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {
