@@ -457,9 +457,22 @@ void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
   const planner::ReplanReason reason = planner::CheckReplan(config_.replan, in);
   if (reason == planner::ReplanReason::kNone) return;
   job->record.trigger = planner::ReplanReasonName(reason);
-  const bool found = Replan(job, c, reason, blocked, closest, blocked_index);
+  // The path's poses are clear, but the follower may no longer keep to them from where the vehicle
+  // is now: stopped at a cusp at another heading than the path's, it swings wide of a tight turn
+  // that follows. Such a path is not kept, and with no other path the vehicle stands.
+  bool drifts = false;
+  if (reason == planner::ReplanReason::kPeriodElapsed && !blocked && job->following && builtin_follower_ &&
+      config_.path_choice.rollout_margin_m >= 0.0 && closest + 1 < state.path_O.Poses().size()) {
+    drifts = RolloutCollides(*job, c, c.frame.ToL(state.path_O.Slice(closest, state.path_O.Poses().size() - 1)));
+  }
+  const bool found = Replan(job, c, reason, blocked, closest, blocked_index, !drifts);
   // The old path runs into something: drive only its valid part.
   if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
+  if (!found && drifts) {
+    ++job->plan_outcomes["current path rollout collision"];
+    job->follow = Job::Follow::kClear;
+    state.path_O = planner::Path{};
+  }
 }
 
 void Navigator::FindEdgeAhead(Job* job, const Cycle& c) const {
@@ -515,7 +528,7 @@ bool Navigator::NewPathIsBetter(const PlanState& state, const planner::Path& new
 }
 
 bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
-                       std::size_t blocked_index) {
+                       std::size_t blocked_index, bool may_keep) {
   PlanState& state = job->state;
   std::optional<planner::LocalGoal> previous_L = state.last_goal_O;
   if (previous_L) previous_L->pose = c.frame.ToL(previous_L->pose);
@@ -527,7 +540,7 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
   // The candidates in their order until one gives a path; each attempt is a row of plans.csv.
   bool found = false;
   for (const planner::LocalGoal& goal : goals) {
-    const GoalTry result = TryGoal(job, c, record, goal, reason, closest);
+    const GoalTry result = TryGoal(job, c, record, goal, reason, closest, may_keep);
     found = result == GoalTry::kTaken;
     if (result != GoalTry::kNext) break;
   }
@@ -541,7 +554,7 @@ bool Navigator::Replan(Job* job, const Cycle& c, planner::ReplanReason reason, b
     if (f * d >= config_.local_goal.min_distance_m) {
       const planner::LocalGoal nearer{Pose2{c.vehicle_L.x_m + f * dx, c.vehicle_L.y_m + f * dy, std::atan2(dy, dx)},
                                       best.route_progress_m - (1.0 - f) * d, false};
-      found = TryGoal(job, c, record, nearer, reason, closest) == GoalTry::kTaken;
+      found = TryGoal(job, c, record, nearer, reason, closest, may_keep) == GoalTry::kTaken;
     }
   }
   if (goals.empty()) {
@@ -572,7 +585,7 @@ PlanAttempt Navigator::AttemptRecord(const Job& job, const Cycle& c, planner::Re
 // One planner call to `goal`, recorded as an attempt (a copy of `record` with the goal and outcome).
 Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttempt& record,
                                       const planner::LocalGoal& goal, planner::ReplanReason reason,
-                                      std::size_t closest) {
+                                      std::size_t closest, bool may_keep) {
   PlanState& state = job->state;
   CycleRecord* cycle = &job->record;
   ++job->plan_calls;
@@ -600,7 +613,7 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
   attempt.state_checks = plan.state_checks;
   job->plans.push_back(attempt);
   cycle->outcome = outcome;
-  if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed &&
+  if (plan.found() && !plan.path.empty() && reason == planner::ReplanReason::kPeriodElapsed && may_keep &&
       !NewPathIsBetter(state, plan.path, goal, closest)) {
     // The current path stands: what is left of it is as good.
     job->plans.back().outcome = cycle->outcome = "kept current";

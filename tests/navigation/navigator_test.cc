@@ -276,6 +276,60 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// A planner whose path runs 10 m straight ahead of the start pose, whatever the goal.
+class StraightAheadPlanner final : public PathPlanner {
+ public:
+  planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2&,
+                           const std::vector<double>&) const override {
+    planner::PlanResult r;
+    r.status = planner::PlanStatus::kFound;
+    planner::PathSegment seg;
+    const double c = std::cos(start.yaw_rad), s = std::sin(start.yaw_rad);
+    for (int i = 0; i <= 100; ++i) {
+      seg.poses.push_back({Pose2{start.x_m + 0.1 * i * c, start.y_m + 0.1 * i * s, start.yaw_rad}, 0.0});
+    }
+    r.path = planner::Path({seg});
+    return r;
+  }
+  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
+                                              std::size_t) const override {
+    return std::nullopt;
+  }
+};
+
+// The path runs along x, its poses 0.45 m clear of a post at (4, 1.4). The vehicle then stands 1 m
+// on, 0.3 m to the left and turned 25 deg to the left (as after a cusp taken at another heading):
+// from there the follower would swing its nose into the post before it is back on the path. The
+// periodic re-plan does not keep that path; the new one (straight on at 25 deg) hits the post too,
+// so the vehicle stands. Without the rollout the current path is kept.
+TEST(NavigatorTest, APathTheFollowerCanNoLongerKeepToIsNotKept) {
+  synth::Scene scene;
+  scene.cylinders.push_back({Vec3(4.0, 1.4, 0.0), 0.1, 2.0});
+  for (const double margin : {-1.0, 0.05}) {
+    Navigator::Config config = FlatConfig();
+    config.path_choice.rollout_margin_m = margin;
+    config.path_choice.keep_path_within_m = 50.0;  // a new path is never better enough
+    Navigator::Plugins plugins;
+    plugins.planner = std::make_unique<StraightAheadPlanner>();
+    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+    FirstCycle(&nav, synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1));
+    ASSERT_TRUE(nav.has_path()) << "from the start the follower keeps to it";
+    Eigen::Isometry3d drifted = Eigen::Isometry3d::Identity();
+    drifted.translation() = Vec3(1.0, 0.3, 0.0);
+    drifted.linear() = Eigen::AngleAxisd(25.0 * kPi / 180.0, Vec3::UnitZ()).toRotationMatrix();
+    for (double t = 0.4; t < 1.25; t += 0.2) nav.Update(t, drifted);
+    EXPECT_EQ(nav.cycles().back().trigger, "period elapsed") << margin;
+    if (margin < 0.0) {
+      EXPECT_EQ(nav.cycles().back().outcome, "kept current");
+      EXPECT_TRUE(nav.has_path());
+    } else {
+      EXPECT_EQ(nav.plan_log().back().outcome, "rollout collision");
+      EXPECT_FALSE(nav.has_path()) << "the vehicle stands";
+      EXPECT_EQ(nav.stats().plan_outcomes.at("current path rollout collision"), 1u);
+    }
+  }
+}
+
 // A planner that records the goal and the other goal headings it is asked for, and finds nothing.
 class RecordingPlanner final : public PathPlanner {
  public:

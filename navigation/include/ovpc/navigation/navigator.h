@@ -258,14 +258,15 @@ class Navigator {
   // The path's first pose ahead near an unseen drop (PathChoice::edge_look_m), into the job's state.
   void FindEdgeAhead(Job* job, const Cycle& c) const;
   bool PathBlocked(const Job& job, const Cycle& c, std::size_t* closest, std::size_t* blocked_index) const;
+  // `may_keep`: a periodic re-plan may keep the current path when the new one is no better.
   bool Replan(Job* job, const Cycle& c, planner::ReplanReason reason, bool blocked, std::size_t closest,
-              std::size_t blocked_index);
+              std::size_t blocked_index, bool may_keep);
   // Replan's steps: the record its attempts share; one goal tried.
   PlanAttempt AttemptRecord(const Job& job, const Cycle& c, planner::ReplanReason reason, bool blocked,
                             std::size_t blocked_index) const;
   enum class GoalTry { kNext, kTaken, kStop };  // try the next goal; the cycle has its path; no goal will do
   GoalTry TryGoal(Job* job, const Cycle& c, const PlanAttempt& record, const planner::LocalGoal& goal,
-                  planner::ReplanReason reason, std::size_t closest);
+                  planner::ReplanReason reason, std::size_t closest, bool may_keep);
   /// Periodic re-plans: is the new path (to `goal`) worth more than what is left of the current one?
   bool NewPathIsBetter(const PlanState& state, const planner::Path& new_path_L, const planner::LocalGoal& goal,
                        std::size_t closest) const;
