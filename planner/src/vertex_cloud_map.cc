@@ -256,7 +256,8 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
     for (double y : {-0.5 * vehicle.track_m, 0.5 * vehicle.track_m}) {
       const Vec3 contact = ground.T_L_B * Vec3(x, y, 0.0);
       if (InRegion(ground_.known_support, support_cos_, support_sin_, contact.x(), contact.y())) {
-        // Where the vehicle stands; ahead of its front wheels only the crest test still applies.
+        // Where the vehicle stands; ahead of its front wheels (under the nose) seen steep ground
+        // and the crest test still count.
         const SupportRegion& r = ground_.known_support;
         const double along = support_cos_ * (contact.x() - r.pose.x_m) + support_sin_ * (contact.y() - r.pose.y_m);
         if (!(along > r.crest_from_x_m)) continue;

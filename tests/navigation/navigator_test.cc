@@ -3,9 +3,11 @@
 #include "ovpc/navigation/navigator.h"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -218,18 +220,17 @@ TEST(NavigatorTest, APeriodicReplanKeepsTheCurrentPathUnlessTheNewOneIsBetter) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
-// A planner whose path runs 6 m along x and turns into +y at a right angle: a corner sharper than
-// the vehicle's full-lock circle. Its poses keep 1 m clear of a post at (8, 3); the follower swings
-// out past the corner and would hit it.
-class CornerPlanner final : public PathPlanner {
+// A planner whose path is one forward segment of the poses `shape` gives for the start pose,
+// whatever the goal, and whose paths are never blocked.
+class ShapePlanner final : public PathPlanner {
  public:
+  explicit ShapePlanner(std::function<std::vector<Pose2>(const Pose2&)> shape) : shape_(std::move(shape)) {}
   planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2&,
                            const std::vector<double>&) const override {
     planner::PlanResult r;
     r.status = planner::PlanStatus::kFound;
     planner::PathSegment seg;
-    for (int i = 0; i <= 60; ++i) seg.poses.push_back({Pose2{start.x_m + 0.1 * i, start.y_m, 0.0}, 0.0});
-    for (int i = 1; i <= 50; ++i) seg.poses.push_back({Pose2{start.x_m + 6.0, start.y_m + 0.1 * i, kPi / 2}, 0.0});
+    for (const Pose2& p : shape_(start)) seg.poses.push_back({p, 0.0});
     r.path = planner::Path({seg});
     return r;
   }
@@ -237,7 +238,32 @@ class CornerPlanner final : public PathPlanner {
                                               std::size_t) const override {
     return std::nullopt;
   }
+
+ private:
+  std::function<std::vector<Pose2>(const Pose2&)> shape_;
 };
+
+// A path 6 m along x that turns into +y at a right angle: a corner sharper than the vehicle's
+// full-lock circle. Its poses keep 1 m clear of a post at (8, 3); the follower swings out past the
+// corner and would hit it.
+std::unique_ptr<PathPlanner> CornerPlanner() {
+  return std::make_unique<ShapePlanner>([](const Pose2& start) {
+    std::vector<Pose2> poses;
+    for (int i = 0; i <= 60; ++i) poses.push_back(Pose2{start.x_m + 0.1 * i, start.y_m, 0.0});
+    for (int i = 1; i <= 50; ++i) poses.push_back(Pose2{start.x_m + 6.0, start.y_m + 0.1 * i, kPi / 2});
+    return poses;
+  });
+}
+
+// A path 10 m straight ahead of the start pose.
+std::unique_ptr<PathPlanner> StraightAheadPlanner() {
+  return std::make_unique<ShapePlanner>([](const Pose2& start) {
+    std::vector<Pose2> poses;
+    const double c = std::cos(start.yaw_rad), s = std::sin(start.yaw_rad);
+    for (int i = 0; i <= 100; ++i) poses.push_back(Pose2{start.x_m + 0.1 * i * c, start.y_m + 0.1 * i * s, start.yaw_rad});
+    return poses;
+  });
+}
 
 TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   synth::Scene scene;
@@ -249,7 +275,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
     Navigator::Config config = FlatConfig();
     config.path_choice.rollout_margin_m = margin;
     Navigator::Plugins plugins;
-    plugins.planner = std::make_unique<CornerPlanner>();
+    plugins.planner = CornerPlanner();
     Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
     FirstCycle(&nav, scans());
     ASSERT_FALSE(nav.plan_log().empty());
@@ -266,7 +292,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   Navigator::Config config = FlatConfig();
   config.path_choice.rollout_margin_m = 0.05;
   Navigator::Plugins plugins;
-  plugins.planner = std::make_unique<CornerPlanner>();
+  plugins.planner = CornerPlanner();
   Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
   FirstCycle(&nav, synth::SimulateScans(synth::Scene{}, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0,
                                         25, 0.01, 1));
@@ -275,27 +301,6 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   bad.path_choice.rollout_margin_m = 2.0;
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
-
-// A planner whose path runs 10 m straight ahead of the start pose, whatever the goal.
-class StraightAheadPlanner final : public PathPlanner {
- public:
-  planner::PlanResult Plan(const planner::PlanningMap&, const Pose2& start, const Pose2&,
-                           const std::vector<double>&) const override {
-    planner::PlanResult r;
-    r.status = planner::PlanStatus::kFound;
-    planner::PathSegment seg;
-    const double c = std::cos(start.yaw_rad), s = std::sin(start.yaw_rad);
-    for (int i = 0; i <= 100; ++i) {
-      seg.poses.push_back({Pose2{start.x_m + 0.1 * i * c, start.y_m + 0.1 * i * s, start.yaw_rad}, 0.0});
-    }
-    r.path = planner::Path({seg});
-    return r;
-  }
-  std::optional<std::size_t> FirstInvalidPose(const planner::PlanningMap&, const planner::Path&,
-                                              std::size_t) const override {
-    return std::nullopt;
-  }
-};
 
 // The path runs along x, its poses 0.45 m clear of a post at (4, 1.4). The vehicle then stands 1 m
 // on, 0.3 m to the left and turned 25 deg to the left (as after a cusp taken at another heading):
@@ -310,7 +315,7 @@ TEST(NavigatorTest, APathTheFollowerCanNoLongerKeepToIsNotKept) {
     config.path_choice.rollout_margin_m = margin;
     config.path_choice.keep_path_within_m = 50.0;  // a new path is never better enough
     Navigator::Plugins plugins;
-    plugins.planner = std::make_unique<StraightAheadPlanner>();
+    plugins.planner = StraightAheadPlanner();
     Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
     FirstCycle(&nav, synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1));
     ASSERT_TRUE(nav.has_path()) << "from the start the follower keeps to it";

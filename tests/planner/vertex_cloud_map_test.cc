@@ -253,26 +253,40 @@ TEST(VertexCloudMapTest, CrestTestKeepsTheWheelsOffALipTheSensorHasSeenPast) {
   EXPECT_THROW(crest.Validate(), std::invalid_argument);
 }
 
-// The crest test's search for seen ground beyond a wheel skips the known support: there the
-// footprint prior lays ground that was never seen (in `fill` mode on past a lip, up to the known
-// support's end).
-TEST(VertexCloudMapTest, TheFootprintPriorsGroundDoesNotCarryAWheelPastALip) {
+// The wheel rules with the crest test, as the preset has them.
+VehicleBox CrestBox() {
   VehicleBox crest;
   crest.footprint_check = VehicleBox::FootprintCheck::kWheels;
   crest.placement = VehicleBox::Placement::kWheelContacts;
   crest.crest_margin_m = 0.2;
+  return crest;
+}
+
+// The vehicle stands at the origin facing +x, 1.9 m below the viewpoint: its footprint grown by
+// 0.3 m is known support (to 2.65 m ahead, 0.75 m past the front wheels), the crest test applying
+// past its own front wheels (SupportRegion::crest_from_x_m), as the navigator passes it.
+GroundContext StandingAtTheOrigin() {
+  GroundContext context;
+  context.ground_reference_z_m = -1.9;
+  context.known_support.pose = Pose2{0.0, 0.0, 0.0};
+  context.known_support.min_x_m = -0.75;
+  context.known_support.max_x_m = 2.65;
+  context.known_support.half_width_m = 1.05;
+  context.known_support.crest_from_x_m = 1.92;
+  return context;
+}
+
+// The crest test's search for seen ground beyond a wheel skips the known support: there the
+// footprint prior lays ground that was never seen (in `fill` mode on past a lip, up to the known
+// support's end).
+TEST(VertexCloudMapTest, TheFootprintPriorsGroundDoesNotCarryAWheelPastALip) {
+  const VehicleBox crest = CrestBox();
   const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6
   // The vehicle stands at `pose` by a lip at x = 1.85; its known support reaches to 2.65, and the
   // footprint prior's ground is laid on to there; the ditch's bottom, 1 m down, is seen over the lip.
   // 0.3 m on, its front wheels stand on the prior's ground 0.35 m past the lip: that ground does not
   // carry them; the same ground, seen, would.
-  GroundContext prior;
-  prior.ground_reference_z_m = -1.9;
-  prior.known_support.pose = pose;
-  prior.known_support.min_x_m = -0.75;
-  prior.known_support.max_x_m = 2.65;
-  prior.known_support.half_width_m = 1.05;
-  prior.known_support.crest_from_x_m = 1.92;
+  GroundContext prior = StandingAtTheOrigin();
   Points points;
   std::vector<Vec3> normals;
   std::vector<std::uint8_t> traversable;
@@ -304,19 +318,10 @@ TEST(VertexCloudMapTest, TheFootprintPriorsGroundDoesNotCarryAWheelPastALip) {
 // A pose 0.5 m on puts the front wheels 0.3 m past the lip: refused, as it would be outside the
 // region. 0.1 m on, the wheels still stand on the rim.
 TEST(VertexCloudMapTest, SteepGroundSeenUnderTheNoseCarriesNoWheel) {
-  VehicleBox crest;
-  crest.footprint_check = VehicleBox::FootprintCheck::kWheels;
-  crest.placement = VehicleBox::Placement::kWheelContacts;
-  crest.crest_margin_m = 0.2;
+  VehicleBox crest = CrestBox();
   crest.ground_clearance_m = 0.35;  // the preset's: the box on its wheels clears the lip
   const Pose2 pose{0.0, 0.0, 0.0};  // front wheels at x = 1.9, y = +-0.6
-  GroundContext context;
-  context.ground_reference_z_m = -1.9;
-  context.known_support.pose = pose;
-  context.known_support.min_x_m = -0.75;
-  context.known_support.max_x_m = 2.65;
-  context.known_support.half_width_m = 1.05;
-  context.known_support.crest_from_x_m = 1.92;
+  GroundContext context = StandingAtTheOrigin();
   Points points;
   std::vector<Vec3> normals;
   std::vector<std::uint8_t> traversable;

@@ -21,8 +21,9 @@ namespace ovpc::planner {
 struct SupportRegion {
   Pose2 pose;
   double min_x_m = 0.0, max_x_m = 0.0, half_width_m = 0.0;
-  /// A wheel in the region farther along than this (ahead of the vehicle's front wheels) still gets
-  /// the crest test (VehicleBox::crest_margin_m): under the nose the vehicle does not stand.
+  /// A wheel in the region farther along than this (ahead of the vehicle's front wheels) is still
+  /// refused on seen non-traversable ground (its nearest visible point within its support) and
+  /// still gets the crest test (VehicleBox::crest_margin_m): under the nose the vehicle does not stand.
   double crest_from_x_m = std::numeric_limits<double>::infinity();
   bool empty() const { return !(max_x_m > min_x_m) || !(half_width_m > 0.0); }
   bool Contains(double x_m, double y_m) const;
