@@ -399,6 +399,8 @@ void Navigator::MapCycle(Job* job) {
   c.frame.L_in_O = cloud.T_O_L.translation();
   MapContext context;
   context.T_L_B = c.T_L_B;
+  context.L_in_O = c.frame.L_in_O;
+  context.time_s = c.time_s;
   if (config_.path_choice.known_support_margin_m >= 0.0) {
     const planner::VehicleBox& box = box_;
     const double grow = config_.path_choice.known_support_margin_m;

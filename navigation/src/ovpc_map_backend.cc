@@ -1,6 +1,9 @@
 #include "ovpc/navigation/ovpc_map_backend.h"
 
 #include <chrono>
+#include <cmath>
+#include <iterator>
+#include <stdexcept>
 
 #include "ovpc/core/internal/clock.h"
 
@@ -10,11 +13,19 @@ namespace {
 using ovpc::internal::Clock;
 using ovpc::internal::MsSince;
 
+// Ground is remembered within this radius of the sensor: the ring the sensor never sees around its
+// mast, and the ground the vehicle may turn over next, lie well within it.
+constexpr double kMemoryRadiusM = 8.0;
+constexpr double kMemoryCellM = 0.2;
+
 }  // namespace
 
 void OvpcMapBackend::Config::Validate() const {
   mapper.Validate();
   map.Validate();
+  if (!(ground_memory_s >= 0.0) || ground_memory_s > 600.0) {
+    throw std::invalid_argument("navigator.ovpc.ground_memory_s must be in [0, 600] s");
+  }
 }
 
 OvpcMapBackend::OvpcMapBackend(const Config& config) : config_(config), mapper_(config.mapper) { config_.Validate(); }
@@ -27,9 +38,44 @@ std::shared_ptr<const planner::PlanningMap> OvpcMapBackend::Update(const Points&
   ground.ground_reference_z_m = context.T_L_B.translation().z();
   ground.known_support = context.known_support;
   const auto t = Clock::now();
+  if (config_.ground_memory_s > 0.0) {
+    // What was remembered before this update and not yet forgotten, in L; then this update's
+    // points join it.
+    const double forget_before_s = context.time_s - config_.ground_memory_s;
+    for (auto it = memory_.begin(); it != memory_.end();) {
+      it = it->second.time_s < forget_before_s ? memory_.erase(it) : std::next(it);
+    }
+    std::vector<Vec3> remembered_L;
+    std::vector<std::uint8_t> traversable;
+    remembered_L.reserve(memory_.size());
+    traversable.reserve(memory_.size());
+    for (const auto& [key, r] : memory_) {
+      const Vec3 p_L = r.p_O - context.L_in_O;
+      if (p_L.head<2>().squaredNorm() > kMemoryRadiusM * kMemoryRadiusM) continue;
+      remembered_L.push_back(p_L);
+      traversable.push_back(r.traversable);
+    }
+    ground.remembered = std::make_shared<const planner::RememberedGround>(remembered_L, traversable);
+    Remember(context);
+  }
   auto map = std::make_shared<const planner::VertexCloudMap>(latest_.cloud, config_.map, ground);
   planning_map_ms_ = MsSince(t);
   return map;
+}
+
+void OvpcMapBackend::Remember(const MapContext& context) {
+  const TraversabilityCloud& cloud = latest_.cloud;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p_L = cloud.points()[i];
+    if (p_L.head<2>().squaredNorm() > kMemoryRadiusM * kMemoryRadiusM) continue;
+    // Ground under the vehicle's own footprint is the footprint prior's, not seen.
+    if (context.known_support.Contains(p_L.x(), p_L.y())) continue;
+    const Vec3 p_O = p_L + context.L_in_O;
+    const auto ix = static_cast<std::int64_t>(std::floor(p_O.x() / kMemoryCellM));
+    const auto iy = static_cast<std::int64_t>(std::floor(p_O.y() / kMemoryCellM));
+    const std::uint64_t key = (static_cast<std::uint64_t>(ix) << 32) ^ static_cast<std::uint64_t>(iy & 0xffffffff);
+    memory_[key] = Remembered{p_O, context.time_s, cloud.traversable()[i]};
+  }
 }
 
 std::vector<MapStageTime> OvpcMapBackend::StageTimes() const {

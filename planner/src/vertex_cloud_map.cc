@@ -36,6 +36,62 @@ bool SupportRegion::Contains(double x_m, double y_m) const {
   return InRegion(*this, std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), x_m, y_m);
 }
 
+RememberedGround::RememberedGround(const std::vector<Vec3>& points_L, const std::vector<std::uint8_t>& traversable) {
+  if (points_L.size() != traversable.size()) throw std::invalid_argument("RememberedGround: one flag per point");
+  if (points_L.empty()) return;
+  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
+  for (const Vec3& p : points_L) {
+    if (!p.allFinite()) throw std::invalid_argument("RememberedGround: a point is not finite");
+    lo_x = std::min(lo_x, p.x()), hi_x = std::max(hi_x, p.x());
+    lo_y = std::min(lo_y, p.y()), hi_y = std::max(hi_y, p.y());
+  }
+  if (hi_x - lo_x > 1000.0 || hi_y - lo_y > 1000.0) throw std::invalid_argument("RememberedGround: the points span too far");
+  origin_x_m_ = lo_x, origin_y_m_ = lo_y;
+  nx_ = static_cast<int>(std::floor((hi_x - lo_x) / kCellM)) + 1;
+  ny_ = static_cast<int>(std::floor((hi_y - lo_y) / kCellM)) + 1;
+  std::vector<std::uint32_t> cell_of(points_L.size());
+  cell_begin_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_) + 1, 0);
+  for (std::size_t i = 0; i < points_L.size(); ++i) {
+    const int ix = std::min(nx_ - 1, static_cast<int>((points_L[i].x() - lo_x) / kCellM));
+    const int iy = std::min(ny_ - 1, static_cast<int>((points_L[i].y() - lo_y) / kCellM));
+    cell_of[i] = static_cast<std::uint32_t>(iy * nx_ + ix);
+    ++cell_begin_[cell_of[i] + 1];
+  }
+  for (std::size_t c = 1; c < cell_begin_.size(); ++c) cell_begin_[c] += cell_begin_[c - 1];
+  std::vector<std::uint32_t> next(cell_begin_.begin(), cell_begin_.end() - 1);
+  points_.resize(points_L.size());
+  traversable_.resize(points_L.size());
+  for (std::size_t i = 0; i < points_L.size(); ++i) {
+    const std::uint32_t k = next[cell_of[i]]++;
+    points_[k] = points_L[i];
+    traversable_[k] = traversable[i];
+  }
+}
+
+bool RememberedGround::Carries(const Vec3& p, double radius_m, double dz_m) const {
+  if (points_.empty()) return false;
+  const int ix0 = std::max(0, static_cast<int>(std::floor((p.x() - radius_m - origin_x_m_) / kCellM)));
+  const int ix1 = std::min(nx_ - 1, static_cast<int>(std::floor((p.x() + radius_m - origin_x_m_) / kCellM)));
+  const int iy0 = std::max(0, static_cast<int>(std::floor((p.y() - radius_m - origin_y_m_) / kCellM)));
+  const int iy1 = std::min(ny_ - 1, static_cast<int>(std::floor((p.y() + radius_m - origin_y_m_) / kCellM)));
+  const double r2 = radius_m * radius_m;
+  double best = r2;
+  std::optional<std::uint32_t> nearest;
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    for (int ix = ix0; ix <= ix1; ++ix) {
+      const std::size_t c = static_cast<std::size_t>(iy) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(ix);
+      for (std::uint32_t k = cell_begin_[c]; k < cell_begin_[c + 1]; ++k) {
+        const double d2 = (points_[k] - p).squaredNorm();
+        // A lip: non-traversable ground remembered anywhere within the support (a wall just below
+        // it, a drop's face) carries no wheel from memory, however near the lip's top is.
+        if (d2 <= r2 && !traversable_[k]) return false;
+        if (d2 <= best) best = d2, nearest = k;  // the last of equals: cells and points in a fixed order
+      }
+    }
+  }
+  return nearest && std::abs(points_[*nearest].z() - p.z()) <= dz_m;
+}
+
 void GroundContext::Validate() const {
   if (!std::isfinite(ground_reference_z_m)) throw std::invalid_argument("GroundContext: ground_reference_z_m must be finite");
   const SupportRegion& r = known_support;
@@ -273,10 +329,17 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
       }
       const auto nearest = cloud_.Nearest(contact);
       const double support_m = vehicle.WheelSupportAt(contact.head<2>().norm());
-      if (!nearest || nearest->distance_m > support_m) return PoseCheck::kUnseenGround;
-      if (!cloud_.traversable()[nearest->index]) return PoseCheck::kGroundUnderFootprint;
-      if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
-        return PoseCheck::kUnseenGround;
+      if (!nearest || nearest->distance_m > support_m) {
+        // Nothing seen near it now: ground seen there before, traversable and at the wheel's height
+        // within a step, carries it (the crest test still applies).
+        if (!ground_.remembered || !ground_.remembered->Carries(contact, support_m, vehicle.crest_step_m)) {
+          return PoseCheck::kUnseenGround;
+        }
+      } else {
+        if (!cloud_.traversable()[nearest->index]) return PoseCheck::kGroundUnderFootprint;
+        if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
+          return PoseCheck::kUnseenGround;
+        }
       }
       if (vehicle.crest_margin_m >= 0.0 && OverUnseenDrop(ground, contact, vehicle)) return PoseCheck::kCrest;
     }

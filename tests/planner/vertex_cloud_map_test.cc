@@ -344,6 +344,72 @@ TEST(VertexCloudMapTest, SteepGroundSeenUnderTheNoseCarriesNoWheel) {
   EXPECT_EQ(CheckPose(outside, crest, Pose2{0.5, 0.0, 0.0}), PoseCheck::kGroundUnderFootprint) << "as outside";
 }
 
+// Flat ground seen everywhere but in a 1.2 m hole behind the vehicle (the ring round the mast the
+// sensor never sees): the rear wheels of a pose 1.2 m back stand in its middle, unseen. Ground
+// remembered there at the same height carries them; remembered 0.6 m lower (a ditch's floor seen
+// earlier), or remembered not traversable (a steep face), it does not; a wheel with a visible
+// point near it is judged by that point, whatever is remembered.
+TEST(VertexCloudMapTest, RememberedGroundJudgesAWheelOnlyWhereNothingIsSeen) {
+  VehicleBox wheels;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  wheels.wheel_support_m = 0.35;
+  const auto hole = [](double x, double y) { return x > -1.8 && x < -0.6 && std::abs(y) < 1.5; };
+  Points points;
+  std::vector<Vec3> normals;
+  std::vector<std::uint8_t> traversable;
+  for (int i = -40; i <= 60; ++i) {
+    for (int j = -30; j <= 30; ++j) {
+      if (hole(0.1 * i, 0.1 * j)) continue;
+      points.emplace_back(0.1 * i, 0.1 * j, -1.9);
+      normals.push_back(Vec3::UnitZ());
+      traversable.push_back(1);
+    }
+  }
+  const Pose2 back{-1.2, 0.0, 0.0};  // rear wheels at (-1.2, +-0.6), front wheels at (0.7, +-0.6)
+  GroundContext context;
+  context.ground_reference_z_m = -1.9;
+  const VertexCloudMap unseen(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, context);
+  EXPECT_EQ(CheckPose(unseen, wheels, back), PoseCheck::kUnseenGround);
+  const auto remember = [&](double z, std::uint8_t ok) {
+    std::vector<Vec3> r;
+    for (int i = -18; i <= -6; ++i) {
+      for (int j = -15; j <= 15; ++j) r.emplace_back(0.1 * i, 0.1 * j, z);
+    }
+    GroundContext with = context;
+    with.remembered = std::make_shared<const RememberedGround>(r, std::vector<std::uint8_t>(r.size(), ok));
+    return VertexCloudMap(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, with);
+  };
+  EXPECT_EQ(CheckPose(remember(-1.9, 1), wheels, back), PoseCheck::kValid);
+  EXPECT_EQ(CheckPose(remember(-2.5, 1), wheels, back), PoseCheck::kUnseenGround) << "a floor 0.6 m down";
+  EXPECT_EQ(CheckPose(remember(-1.9, 0), wheels, back), PoseCheck::kUnseenGround) << "a steep face";
+  // A lip remembered behind the rear wheels (x = -1.2): flat ground back to `lip_x`, then a 40
+  // degree wall, not traversable, going down. Within the wheel's support of the wall, memory
+  // does not carry it, though the nearest remembered point is the flat top right under it.
+  const auto remember_lip = [&](double lip_x) {
+    std::vector<Vec3> r;
+    std::vector<std::uint8_t> ok;
+    for (int i = -18; i <= -6; ++i) {
+      for (int j = -15; j <= 15; ++j) {
+        const double x = 0.1 * i;
+        r.emplace_back(x, 0.1 * j, x >= lip_x ? -1.9 : -1.9 - std::tan(40.0 * M_PI / 180.0) * (lip_x - x));
+        ok.push_back(x >= lip_x ? 1 : 0);
+      }
+    }
+    GroundContext with = context;
+    with.remembered = std::make_shared<const RememberedGround>(r, ok);
+    return VertexCloudMap(TraversabilityCloud(points, normals, traversable), VertexCloudMap::Config{}, with);
+  };
+  EXPECT_EQ(CheckPose(remember_lip(-1.45), wheels, back), PoseCheck::kUnseenGround) << "0.25 m from a lip";
+  EXPECT_EQ(CheckPose(remember_lip(-1.65), wheels, back), PoseCheck::kValid) << "0.45 m from a lip";
+  // Where a non-traversable point is seen near a wheel, memory does not overrule it.
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (std::hypot(points[k].x() - 0.7, points[k].y() - 0.6) < 0.25) traversable[k] = 0;
+  }
+  EXPECT_EQ(CheckPose(remember(-1.9, 1), wheels, back), PoseCheck::kGroundUnderFootprint);
+  EXPECT_THROW(RememberedGround({Vec3(0.0, std::nan(""), 0.0)}, {1}), std::invalid_argument);
+  EXPECT_THROW(RememberedGround({Vec3::Zero()}, {}), std::invalid_argument);
+}
+
 // The ground under the vehicle's own footprint carries its wheels though nothing traversable is seen
 // there; obstacles in the box still block, and wheels outside the region still need support.
 TEST(VertexCloudMapTest, KnownSupportCarriesTheWheelsButNotThroughObstacles) {

@@ -25,6 +25,8 @@ using SupportRegion = planner::SupportRegion;
 struct MapContext {
   Eigen::Isometry3d T_L_B = Eigen::Isometry3d::Identity();  ///< the vehicle
   SupportRegion known_support;  ///< empty unless the navigator passes the vehicle's footprint
+  Vec3 L_in_O = Vec3::Zero();   ///< frame L's origin in the odometry frame O (L is O shifted)
+  double time_s = 0.0;          ///< the update's time (simulated or robot time)
 };
 
 /// What the latest map shows a person: its points with a traversability flag and, for a mesh map,

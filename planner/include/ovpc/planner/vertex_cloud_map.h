@@ -29,6 +29,34 @@ struct SupportRegion {
   bool Contains(double x_m, double y_m) const;
 };
 
+/// Ground seen at earlier map updates, in the map frame, with each point's traversability: where
+/// the present map has no visible point within a wheel's support, the nearest remembered point
+/// judges it as the present map's nearest point would (GroundContext::remembered). The tilted,
+/// spinning sensor never sees the ground within about 1.1 m of its own mast (its steepest beam is
+/// 60 degrees down), and the vehicle's footprint covers only part of that: behind the rear bumper,
+/// the ground the vehicle came over or saw from farther away is unseen for as long as it stays.
+class RememberedGround {
+ public:
+  RememberedGround() = default;
+  /// @throws std::invalid_argument if a point is not finite or the sizes differ.
+  RememberedGround(const std::vector<Vec3>& points_L, const std::vector<std::uint8_t>& traversable);
+  /// Whether remembered ground carries a wheel at `p`: some remembered point lies within
+  /// `radius_m` of it, the nearest (in space) within `dz_m` of its height, and every remembered
+  /// point within `radius_m` is traversable (a lip, with its wall remembered below it, carries no
+  /// wheel from memory).
+  bool Carries(const Vec3& p, double radius_m, double dz_m) const;
+  bool empty() const { return points_.empty(); }
+  std::size_t size() const { return points_.size(); }
+
+ private:
+  static constexpr double kCellM = 0.5;
+  double origin_x_m_ = 0.0, origin_y_m_ = 0.0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::uint32_t> cell_begin_;  // nx * ny + 1 offsets into points_ and traversable_
+  std::vector<Vec3> points_;
+  std::vector<std::uint8_t> traversable_;
+};
+
 /// Where the vehicle stands in the map frame, given per update (not a setting).
 struct GroundContext {
   /// Height of the ground near the vehicle in the map frame. The nearest-point search starts at
@@ -37,6 +65,10 @@ struct GroundContext {
   /// origin) it is minus the sensor height above the ground (-1.88 m on the paper's robot).
   double ground_reference_z_m = 0.0;
   SupportRegion known_support;
+  /// Ground seen at earlier updates (none by default). It judges only a wheel with no visible
+  /// point within its support (kUnseenGround or kGroundUnderFootprint otherwise); the present
+  /// map's points, and every other test, come first.
+  std::shared_ptr<const RememberedGround> remembered;
   /// @throws std::invalid_argument if a value is not finite.
   void Validate() const;
 };
