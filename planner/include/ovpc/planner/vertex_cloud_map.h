@@ -30,8 +30,8 @@ struct SupportRegion {
 };
 
 /// Ground seen at earlier map updates, in the map frame, with each point's traversability: where
-/// the present map has no visible point within a wheel's support, the nearest remembered point
-/// judges it as the present map's nearest point would (GroundContext::remembered). The tilted,
+/// the present map has no visible point within a wheel's support, the remembered points judge it
+/// (Carries; GroundContext::remembered). The tilted,
 /// spinning sensor never sees the ground within about 1.1 m of its own mast (its steepest beam is
 /// 60 degrees down), and the vehicle's footprint covers only part of that: behind the rear bumper,
 /// the ground the vehicle came over or saw from farther away is unseen for as long as it stays.
@@ -66,8 +66,8 @@ struct GroundContext {
   double ground_reference_z_m = 0.0;
   SupportRegion known_support;
   /// Ground seen at earlier updates (none by default). It judges only a wheel with no visible
-  /// point within its support (kUnseenGround or kGroundUnderFootprint otherwise); the present
-  /// map's points, and every other test, come first.
+  /// point within its support (kUnseenGround unless it carries the wheel); a wheel with a visible
+  /// point near it is judged by the present map alone, and the crest and box tests use only it.
   std::shared_ptr<const RememberedGround> remembered;
   /// @throws std::invalid_argument if a value is not finite.
   void Validate() const;
