@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <iterator>
 #include <stdexcept>
 
 #include "ovpc/core/internal/clock.h"
@@ -39,21 +38,25 @@ std::shared_ptr<const planner::PlanningMap> OvpcMapBackend::Update(const Points&
   ground.known_support = context.known_support;
   const auto t = Clock::now();
   if (config_.ground_memory_s > 0.0) {
-    // What was remembered before this update and not yet forgotten, in L; then this update's
-    // points join it.
+    // What was remembered before this update and not yet forgotten, in L (one pass: forgetting
+    // and copying); then this update's points join it.
     const double forget_before_s = context.time_s - config_.ground_memory_s;
-    for (auto it = memory_.begin(); it != memory_.end();) {
-      it = it->second.time_s < forget_before_s ? memory_.erase(it) : std::next(it);
-    }
     std::vector<Vec3> remembered_L;
     std::vector<std::uint8_t> traversable;
     remembered_L.reserve(memory_.size());
     traversable.reserve(memory_.size());
-    for (const auto& [key, r] : memory_) {
+    for (auto it = memory_.begin(); it != memory_.end();) {
+      const Remembered& r = it->second;
+      if (r.time_s < forget_before_s) {
+        it = memory_.erase(it);
+        continue;
+      }
       const Vec3 p_L = r.p_O - context.L_in_O;
-      if (p_L.head<2>().squaredNorm() > kMemoryRadiusM * kMemoryRadiusM) continue;
-      remembered_L.push_back(p_L);
-      traversable.push_back(r.traversable);
+      if (p_L.head<2>().squaredNorm() <= kMemoryRadiusM * kMemoryRadiusM) {
+        remembered_L.push_back(p_L);
+        traversable.push_back(r.traversable);
+      }
+      ++it;
     }
     ground.remembered = std::make_shared<const planner::RememberedGround>(remembered_L, traversable);
     Remember(context);
