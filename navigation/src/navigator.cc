@@ -5,7 +5,9 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "ovpc/controller/rollout.h"
@@ -334,10 +336,39 @@ struct Navigator::Cycle {
   FrameChange frame;  // between L and O
 };
 
+namespace {
+// Horizontal distance from `pose` to the polyline through the path's poses.
+double DistanceToPolyline(const planner::Path& path, const Pose2& pose) {
+  const auto& poses = path.Poses();
+  const Eigen::Vector2d p(pose.x_m, pose.y_m);
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Vector2d a(poses[i].pose.x_m, poses[i].pose.y_m);
+    if (i + 1 == poses.size()) {
+      best = std::min(best, (p - a).norm());
+      break;
+    }
+    const Eigen::Vector2d ab = Eigen::Vector2d(poses[i + 1].pose.x_m, poses[i + 1].pose.y_m) - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (p - a - t * ab).norm());
+  }
+  return best;
+}
+
+// The outcome of a path whose rollout fails (RolloutCheck).
+const char* RolloutOutcome(planner::PoseCheck check) {
+  return check == planner::PoseCheck::kCollision ? "rollout collision" : "rollout ground under footprint";
+}
+}  // namespace
+
 // The built-in follower driven along `path_L` from the cycle's vehicle pose (where the vehicle
 // will be when the path takes effect), at the speed and steering of the launch: does the vehicle
-// box, grown by rollout_margin_m, hit a map point on the way?
-bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::Path& path_L) const {
+// box, grown by rollout_margin_m, hit a map point on the way (kCollision), or, with `wheels_off_path`,
+// put a wheel on ground the planner rejects where it leaves the path (kGroundUnderFootprint)?
+// kValid when neither.
+planner::PoseCheck Navigator::RolloutCheck(const Job& job, const Cycle& c, const planner::Path& path_L,
+                                           bool wheels_off_path) const {
   controller::BicycleModel::Config model;
   model.wheelbase_m = config_.vehicle.wheelbase_m;
   model.max_steering_rad = DegToRad(config_.vehicle.max_steering_deg);
@@ -353,10 +384,20 @@ bool Navigator::RolloutCollides(const Job& job, const Cycle& c, const planner::P
                           1.0 / config_.timing.control_rate_hz, config_.planner.check_resolution_m, max_time_s);
   planner::VehicleBox box = box_;
   box.margin_m = config_.path_choice.rollout_margin_m;
+  // A collision anywhere is reported before a wheel off the path.
+  planner::PoseCheck result = planner::PoseCheck::kValid;
   for (const Pose2& pose : poses) {
-    if (planner::CheckPose(*c.map, box, pose) == planner::PoseCheck::kCollision) return true;
+    const planner::PoseCheck check = planner::CheckPose(*c.map, box, pose);
+    if (check == planner::PoseCheck::kCollision) return check;
+    // A wheel on ground the planner would not stand on, where the follower leaves the path: the
+    // path's own poses were checked, the follower's drift was not. Poses within one check step of
+    // the path are the path's own.
+    if (wheels_off_path && result == planner::PoseCheck::kValid && check == planner::PoseCheck::kGroundUnderFootprint &&
+        DistanceToPolyline(path_L, pose) > config_.planner.check_resolution_m) {
+      result = check;
+    }
   }
-  return false;
+  return result;
 }
 
 // The buffered cloud in its frame L, with lone outliers dropped and the ground under the vehicle's
@@ -461,17 +502,25 @@ void Navigator::CheckAndReplan(Job* job, const Cycle& c) {
   job->record.trigger = planner::ReplanReasonName(reason);
   // The path's poses are clear, but the follower may no longer keep to them from where the vehicle
   // is now: stopped at a cusp at another heading than the path's, it swings wide of a tight turn
-  // that follows. Such a path is not kept, and with no other path the vehicle stands.
-  bool drifts = false;
+  // that follows. Such a path is not kept, and with no other path the vehicle stands. Nor is a
+  // path the follower would leave for ground the planner rejects: at a ditch's rim the vehicle,
+  // kept to a path planned seconds before, was 0.3 m outside it after its cusps and a front wheel
+  // reached the lip (docs/notes/descents.md). A new path is not held to that: it starts where the
+  // vehicle will be, and at a crest, where the map's ground flickers from one update to the next,
+  // the same test on new paths kept the vehicle rocking there (a 24 deg descent out of its 90 s,
+  // 58 s without it).
+  planner::PoseCheck drift = planner::PoseCheck::kValid;
   if (reason == planner::ReplanReason::kPeriodElapsed && !blocked && job->following && builtin_follower_ &&
       config_.path_choice.rollout_margin_m >= 0.0 && closest + 1 < state.path_O.Poses().size()) {
-    drifts = RolloutCollides(*job, c, c.frame.ToL(state.path_O.Slice(closest, state.path_O.Poses().size() - 1)));
+    drift = RolloutCheck(*job, c, c.frame.ToL(state.path_O.Slice(closest, state.path_O.Poses().size() - 1)),
+                         /*wheels_off_path=*/true);
   }
+  const bool drifts = drift != planner::PoseCheck::kValid;
   const bool found = Replan(job, c, reason, blocked, closest, blocked_index, !drifts);
   // The old path runs into something: drive only its valid part.
   if (!found && blocked) KeepValidPrefix(job, closest, blocked_index);
   if (!found && drifts) {
-    ++job->plan_outcomes["current path rollout collision"];
+    ++job->plan_outcomes[std::string("current path ") + RolloutOutcome(drift)];
     job->follow = Job::Follow::kClear;
     state.path_O = planner::Path{};
   }
@@ -622,12 +671,14 @@ Navigator::GoalTry Navigator::TryGoal(Job* job, const Cycle& c, const PlanAttemp
     ++job->plan_outcomes["kept current"];
     return GoalTry::kTaken;
   }
-  if (plan.found() && !plan.path.empty() && config_.path_choice.rollout_margin_m >= 0.0 && builtin_follower_ &&
-      RolloutCollides(*job, c, plan.path)) {
-    // The planner's poses are clear, but the follower would not keep to them.
-    job->plans.back().outcome = cycle->outcome = "rollout collision";
-    ++job->plan_outcomes["rollout collision"];
-    return GoalTry::kNext;
+  if (plan.found() && !plan.path.empty() && config_.path_choice.rollout_margin_m >= 0.0 && builtin_follower_) {
+    const planner::PoseCheck rollout = RolloutCheck(*job, c, plan.path, /*wheels_off_path=*/false);
+    if (rollout != planner::PoseCheck::kValid) {
+      // The planner's poses are clear, but the follower would not keep to them.
+      job->plans.back().outcome = cycle->outcome = RolloutOutcome(rollout);
+      ++job->plan_outcomes[RolloutOutcome(rollout)];
+      return GoalTry::kNext;
+    }
   }
   if (plan.found() && !plan.path.empty()) {
     ++job->replans_found;

@@ -288,7 +288,7 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
       EXPECT_EQ(nav.cycles().back().outcome, "rollout collision");
     }
   }
-  // Without the post the same path is taken: the rollout checks collisions, nothing else.
+  // Without the post the same path is taken: a new path's rollout checks collisions, nothing else.
   Navigator::Config config = FlatConfig();
   config.path_choice.rollout_margin_m = 0.05;
   Navigator::Plugins plugins;
@@ -331,6 +331,38 @@ TEST(NavigatorTest, APathTheFollowerCanNoLongerKeepToIsNotKept) {
       EXPECT_EQ(nav.plan_log().back().outcome, "rollout collision");
       EXPECT_FALSE(nav.has_path()) << "the vehicle stands";
       EXPECT_EQ(nav.stats().plan_outcomes.at("current path rollout collision"), 1u);
+    }
+  }
+}
+
+// The same drift beside a low bank (0.15 m high, under the box's ground clearance, from 2 to 9 m
+// along the path) instead of a post: the path's left wheels pass its edge 0.8 m clear, but from the
+// drifted pose the follower swings them on to the edge, ground the planner rejects. That path is not
+// kept (the re-plan takes a new one); it is kept without the rollout, and with the bank 0.6 m
+// farther off. This is how a front wheel reached a ditch's lip (docs/notes/descents.md).
+TEST(NavigatorTest, APathTheFollowerWouldLeaveForRejectedGroundIsNotKept) {
+  for (const double bank_y : {1.4, 2.0}) {
+    for (const double margin : {-1.0, 0.05}) {
+      synth::Scene scene;
+      scene.boxes.push_back({Vec3(2.0, bank_y, 0.0), Vec3(9.0, bank_y + 3.0, 0.15)});
+      Navigator::Config config = FlatConfig();
+      config.path_choice.rollout_margin_m = margin;
+      config.path_choice.keep_path_within_m = 50.0;  // a new path is never better enough
+      Navigator::Plugins plugins;
+      plugins.planner = StraightAheadPlanner();
+      Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+      FirstCycle(&nav, synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1));
+      ASSERT_TRUE(nav.has_path());
+      Eigen::Isometry3d drifted = Eigen::Isometry3d::Identity();
+      drifted.translation() = Vec3(1.0, 0.3, 0.0);
+      drifted.linear() = Eigen::AngleAxisd(25.0 * kPi / 180.0, Vec3::UnitZ()).toRotationMatrix();
+      for (double t = 0.4; t < 1.25; t += 0.2) nav.Update(t, drifted);
+      ASSERT_EQ(nav.cycles().back().trigger, "period elapsed");
+      const bool kept = nav.cycles().back().outcome == "kept current";
+      EXPECT_EQ(kept, margin < 0.0 || bank_y > 1.5) << "bank at y " << bank_y << ", rollout margin " << margin;
+      if (!kept) {
+        EXPECT_EQ(nav.cycles().back().outcome, "found") << "a new path from where the vehicle is";
+      }
     }
   }
 }

@@ -417,14 +417,14 @@ TEST(LocalGoalTest, ReachableGoalTakesTheWayRoundAWallTheRouteRunsInto) {
 // At the rim of what the map has seen, straight ahead (a crest, an edge), the best place the vehicle
 // fits is nearer than min_distance_m. Without look_at_rim every goal keeps that distance, so none is
 // ahead of the vehicle; with it that place is a candidate too, pulled back so that the vehicle would
-// fit 0.8 m farther on, and marked as a place to look from, unless the vehicle is within 1 m of it.
+// fit 0.4 m farther on, and marked as a place to look from, unless the vehicle is within 1 m of it.
 TEST(LocalGoalTest, ReachableGoalLooksOverTheRimStraightAhead) {
   const VehicleBox vehicle;
   const std::vector<Eigen::Vector2d> route = {{-20.0, 0.0}, {40.0, 0.0}};
   const auto last_fit = SelectLocalGoal(FlatMap(), vehicle, route, kIdentity, Pose2{-7.0, 0.0, 0.0}, LocalGoalSelection::Config{});
   ASSERT_TRUE(last_fit.has_value());
   // From 2.45 m short of the last fit the place to look from (0.5 m cells, pulled back so that the
-  // vehicle also fits 0.8 m on) lies about 1.2 m ahead: beyond the 1 m within which the vehicle looks
+  // vehicle also fits 0.4 m on) lies about 1.7 m ahead: beyond the 1 m within which the vehicle looks
   // by standing, and nearer than min_distance_m, which keeps the plain goals' cells farther out.
   const Pose2 here{last_fit->pose.x_m - 2.45, 0.0, 0.0};
   LocalGoalSelection::Config config;
@@ -445,8 +445,11 @@ TEST(LocalGoalTest, ReachableGoalLooksOverTheRimStraightAhead) {
   EXPECT_LT(std::abs(g.pose.y_m), 0.5);
   EXPECT_LT(std::abs(NormalizeYaw(g.pose.yaw_rad)), 0.5);
   EXPECT_GT(g.pose.x_m, here.x_m) << "ahead, at the rim";
-  EXPECT_EQ(CheckPose(FlatMap(), vehicle, Pose2{g.pose.x_m + 0.8, g.pose.y_m, g.pose.yaw_rad}), PoseCheck::kValid)
-      << "the vehicle fits 0.8 m farther on too";
+  EXPECT_EQ(CheckPose(FlatMap(), vehicle, Pose2{g.pose.x_m + 0.4, g.pose.y_m, g.pose.yaw_rad}), PoseCheck::kValid)
+      << "the vehicle fits 0.4 m farther on too";
+  // Near the rim, so that the sensor looks down what lies beyond it steeply: within the margin and
+  // one cell of the last place the vehicle fits (with a 0.8 m margin the place was 1.25 m short).
+  EXPECT_LT(last_fit->pose.x_m - g.pose.x_m, 0.4 + 0.5 + 1e-9);
   for (const LocalGoal& l : look) {
     if (!l.is_look) {
       EXPECT_GE(std::hypot(l.pose.x_m - here.x_m, l.pose.y_m - here.y_m), config.min_distance_m);

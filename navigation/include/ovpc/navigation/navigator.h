@@ -94,8 +94,11 @@ class Navigator {
     /// will be (controller::Rollout), keeps the vehicle box grown by this margin clear of every map
     /// point (a collision; the ground checks are the path's own). The planner checks the path's
     /// poses; the vehicle drives the follower's: a cusp segment shorter than the follower's stop
-    /// tolerance is skipped and a corner is cut. Negative: off (the paper's rule). With a follower
-    /// plug-in there is no rollout (its behaviour is not known).
+    /// tolerance is skipped and a corner is cut. The current path is kept only if, besides, no
+    /// rollout pose farther than planner.check_resolution_m from it puts a wheel on ground the
+    /// planner rejects (ground under footprint): a vehicle that has drifted off an older path does
+    /// not follow it over an edge. Negative: off (the paper's rule). With a follower plug-in there
+    /// is no rollout (its behaviour is not known).
     double rollout_margin_m = -1.0;
     /// A blocked path that no new plan replaces is driven up to this far before its first blocked
     /// pose; a remaining prefix shorter than `min_prefix_m` is dropped and the vehicle stands.
@@ -249,7 +252,7 @@ class Navigator {
   struct Job;    // one cycle: its inputs, state and results
   struct Cycle;  // map-frame helpers of one cycle
   void Launch(double time_s, const Eigen::Isometry3d& T_O_B);
-  bool RolloutCollides(const Job& job, const Cycle& c, const planner::Path& path_L) const;
+  planner::PoseCheck RolloutCheck(const Job& job, const Cycle& c, const planner::Path& path_L, bool wheels_off_path) const;
   void Finish();
   void MapCycle(Job* job);
   // MapCycle's steps: the buffered cloud made ready for the map; the re-plan triggers checked and acted on.
