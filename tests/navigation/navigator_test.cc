@@ -302,6 +302,27 @@ TEST(NavigatorTest, APathTheFollowerWouldNotKeepToIsNotTaken) {
   EXPECT_THROW(bad.Validate(), std::invalid_argument);
 }
 
+// The path straight along x from the origin in `scene`, kept on re-plans (a new one is never
+// better enough); the vehicle then stands 1 m on, 0.3 m to the left and turned 25 deg to the left,
+// and updates until the periodic re-plan. `check` sees the navigator after it.
+void DriftOffAStraightPath(const synth::Scene& scene, double rollout_margin_m,
+                           const std::function<void(const Navigator&)>& check) {
+  Navigator::Config config = FlatConfig();
+  config.path_choice.rollout_margin_m = rollout_margin_m;
+  config.path_choice.keep_path_within_m = 50.0;  // a new path is never better enough
+  Navigator::Plugins plugins;
+  plugins.planner = StraightAheadPlanner();
+  Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
+  FirstCycle(&nav, synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1));
+  ASSERT_TRUE(nav.has_path()) << "from the start the follower keeps to it";
+  Eigen::Isometry3d drifted = Eigen::Isometry3d::Identity();
+  drifted.translation() = Vec3(1.0, 0.3, 0.0);
+  drifted.linear() = Eigen::AngleAxisd(25.0 * kPi / 180.0, Vec3::UnitZ()).toRotationMatrix();
+  for (double t = 0.4; t < 1.25; t += 0.2) nav.Update(t, drifted);
+  ASSERT_EQ(nav.cycles().back().trigger, "period elapsed") << rollout_margin_m;
+  check(nav);
+}
+
 // The path runs along x, its poses 0.45 m clear of a post at (4, 1.4). The vehicle then stands 1 m
 // on, 0.3 m to the left and turned 25 deg to the left (as after a cusp taken at another heading):
 // from there the follower would swing its nose into the post before it is back on the path. The
@@ -311,27 +332,16 @@ TEST(NavigatorTest, APathTheFollowerCanNoLongerKeepToIsNotKept) {
   synth::Scene scene;
   scene.cylinders.push_back({Vec3(4.0, 1.4, 0.0), 0.1, 2.0});
   for (const double margin : {-1.0, 0.05}) {
-    Navigator::Config config = FlatConfig();
-    config.path_choice.rollout_margin_m = margin;
-    config.path_choice.keep_path_within_m = 50.0;  // a new path is never better enough
-    Navigator::Plugins plugins;
-    plugins.planner = StraightAheadPlanner();
-    Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
-    FirstCycle(&nav, synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1));
-    ASSERT_TRUE(nav.has_path()) << "from the start the follower keeps to it";
-    Eigen::Isometry3d drifted = Eigen::Isometry3d::Identity();
-    drifted.translation() = Vec3(1.0, 0.3, 0.0);
-    drifted.linear() = Eigen::AngleAxisd(25.0 * kPi / 180.0, Vec3::UnitZ()).toRotationMatrix();
-    for (double t = 0.4; t < 1.25; t += 0.2) nav.Update(t, drifted);
-    EXPECT_EQ(nav.cycles().back().trigger, "period elapsed") << margin;
-    if (margin < 0.0) {
-      EXPECT_EQ(nav.cycles().back().outcome, "kept current");
-      EXPECT_TRUE(nav.has_path());
-    } else {
-      EXPECT_EQ(nav.plan_log().back().outcome, "rollout collision");
-      EXPECT_FALSE(nav.has_path()) << "the vehicle stands";
-      EXPECT_EQ(nav.stats().plan_outcomes.at("current path rollout collision"), 1u);
-    }
+    DriftOffAStraightPath(scene, margin, [&](const Navigator& nav) {
+      if (margin < 0.0) {
+        EXPECT_EQ(nav.cycles().back().outcome, "kept current");
+        EXPECT_TRUE(nav.has_path());
+      } else {
+        EXPECT_EQ(nav.plan_log().back().outcome, "rollout collision");
+        EXPECT_FALSE(nav.has_path()) << "the vehicle stands";
+        EXPECT_EQ(nav.stats().plan_outcomes.at("current path rollout collision"), 1u);
+      }
+    });
   }
 }
 
@@ -345,24 +355,13 @@ TEST(NavigatorTest, APathTheFollowerWouldLeaveForRejectedGroundIsNotKept) {
     for (const double margin : {-1.0, 0.05}) {
       synth::Scene scene;
       scene.boxes.push_back({Vec3(2.0, bank_y, 0.0), Vec3(9.0, bank_y + 3.0, 0.15)});
-      Navigator::Config config = FlatConfig();
-      config.path_choice.rollout_margin_m = margin;
-      config.path_choice.keep_path_within_m = 50.0;  // a new path is never better enough
-      Navigator::Plugins plugins;
-      plugins.planner = StraightAheadPlanner();
-      Navigator nav(config, {{0.0, 0.0}, {20.0, 0.0}}, std::move(plugins));
-      FirstCycle(&nav, synth::SimulateScans(scene, SpinningLidarMount{}, Eigen::Isometry3d::Identity(), 0.0, 25, 0.01, 1));
-      ASSERT_TRUE(nav.has_path());
-      Eigen::Isometry3d drifted = Eigen::Isometry3d::Identity();
-      drifted.translation() = Vec3(1.0, 0.3, 0.0);
-      drifted.linear() = Eigen::AngleAxisd(25.0 * kPi / 180.0, Vec3::UnitZ()).toRotationMatrix();
-      for (double t = 0.4; t < 1.25; t += 0.2) nav.Update(t, drifted);
-      ASSERT_EQ(nav.cycles().back().trigger, "period elapsed");
-      const bool kept = nav.cycles().back().outcome == "kept current";
-      EXPECT_EQ(kept, margin < 0.0 || bank_y > 1.5) << "bank at y " << bank_y << ", rollout margin " << margin;
-      if (!kept) {
-        EXPECT_EQ(nav.cycles().back().outcome, "found") << "a new path from where the vehicle is";
-      }
+      DriftOffAStraightPath(scene, margin, [&](const Navigator& nav) {
+        const bool kept = nav.cycles().back().outcome == "kept current";
+        EXPECT_EQ(kept, margin < 0.0 || bank_y > 1.5) << "bank at y " << bank_y << ", rollout margin " << margin;
+        if (!kept) {
+          EXPECT_EQ(nav.cycles().back().outcome, "found") << "a new path from where the vehicle is";
+        }
+      });
     }
   }
 }
