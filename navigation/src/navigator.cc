@@ -5,7 +5,6 @@
 #include <cmath>
 #include <exception>
 #include <functional>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -337,25 +336,6 @@ struct Navigator::Cycle {
 };
 
 namespace {
-// Horizontal distance from `pose` to the polyline through the path's poses.
-double DistanceToPolyline(const planner::Path& path, const Pose2& pose) {
-  const auto& poses = path.Poses();
-  const Eigen::Vector2d p(pose.x_m, pose.y_m);
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const Eigen::Vector2d a(poses[i].pose.x_m, poses[i].pose.y_m);
-    if (i + 1 == poses.size()) {
-      best = std::min(best, (p - a).norm());
-      break;
-    }
-    const Eigen::Vector2d ab = Eigen::Vector2d(poses[i + 1].pose.x_m, poses[i + 1].pose.y_m) - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (p - a - t * ab).norm());
-  }
-  return best;
-}
-
 // The outcome of a path whose rollout fails (RolloutCheck).
 const char* RolloutOutcome(planner::PoseCheck check) {
   return check == planner::PoseCheck::kCollision ? "rollout collision" : "rollout ground under footprint";
@@ -393,7 +373,7 @@ planner::PoseCheck Navigator::RolloutCheck(const Job& job, const Cycle& c, const
     // path's own poses were checked, the follower's drift was not. Poses within one check step of
     // the path are the path's own.
     if (wheels_off_path && result == planner::PoseCheck::kValid && check == planner::PoseCheck::kGroundUnderFootprint &&
-        DistanceToPolyline(path_L, pose) > config_.planner.check_resolution_m) {
+        planner::DistanceToPolyline(path_L, Eigen::Vector2d(pose.x_m, pose.y_m)) > config_.planner.check_resolution_m) {
       result = check;
     }
   }

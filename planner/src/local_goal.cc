@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "ovpc/planner/path.h"
 #include "reachable_goals.h"
 
 namespace ovpc::planner {
@@ -40,14 +41,6 @@ std::vector<RoutePoint> Resample(const std::vector<Eigen::Vector2d>& route_O, co
   }
   // A route of one waypoint has no direction; the goal heading is then 0.
   return out;
-}
-
-// Distance from p to the segment [a, b].
-double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
 }
 
 // The first route index in (first, end) whose route from `first` strays more than `max_detour_m`

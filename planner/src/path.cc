@@ -1,9 +1,18 @@
 #include "ovpc/planner/path.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace ovpc::planner {
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
 
 double NormalizeYaw(double yaw_rad) {
   double yaw = std::remainder(yaw_rad, 2.0 * kPi);  // [-pi, pi]
@@ -66,6 +75,15 @@ Path Path::Shifted(double dx_m, double dy_m, double dz_m) const {
     }
   }
   return Path(std::move(out));
+}
+
+double DistanceToPolyline(const Path& path, const Eigen::Vector2d& p) {
+  const auto& poses = path.Poses();
+  const auto xy = [&](std::size_t i) { return Eigen::Vector2d(poses[i].pose.x_m, poses[i].pose.y_m); };
+  if (poses.size() == 1) return (xy(0) - p).norm();
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < poses.size(); ++i) best = std::min(best, DistanceToSegment(p, xy(i), xy(i + 1)));
+  return best;
 }
 
 }  // namespace ovpc::planner

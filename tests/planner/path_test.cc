@@ -42,6 +42,21 @@ TEST(PathTest, PosesListsCuspsOnceAndLengthsAddUp) {
   EXPECT_STREQ(DirectionName(Direction::kReverse), "reverse");
 }
 
+// The distance to the polyline through the poses: to a segment's inside, past its ends, at a cusp,
+// and none for an empty path.
+TEST(PathTest, DistanceToPolylineIsToTheNearestSegment) {
+  const Path path({{Direction::kForward, {{{0, 0, 0}, 0}, {{2, 0, 0}, 0}}},
+                   {Direction::kReverse, {{{2, 0, 0}, 0}, {{2, 3, 0}, 0}}}});
+  EXPECT_DOUBLE_EQ(DistanceToPolyline(path, Eigen::Vector2d(1.0, 0.5)), 0.5);
+  EXPECT_DOUBLE_EQ(DistanceToPolyline(path, Eigen::Vector2d(-3.0, -4.0)), 5.0) << "past the first pose";
+  EXPECT_DOUBLE_EQ(DistanceToPolyline(path, Eigen::Vector2d(1.5, 2.0)), 0.5) << "beside the second segment";
+  EXPECT_DOUBLE_EQ(DistanceToPolyline(path, Eigen::Vector2d(3.0, -1.0)), std::sqrt(2.0)) << "off the corner";
+  EXPECT_DOUBLE_EQ(DistanceToPolyline(path, Eigen::Vector2d(2.0, 5.0)), 2.0) << "past the last pose";
+  EXPECT_TRUE(std::isinf(DistanceToPolyline(Path{}, Eigen::Vector2d(0.0, 0.0))));
+  EXPECT_DOUBLE_EQ(DistanceToSegment(Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.0, 0.0)),
+                   std::sqrt(2.0)) << "a segment of no length is a point";
+}
+
 TEST(PathTest, PosesAreStoredWithThePathNotRebuiltAtEveryCall) {
   Path path({{Direction::kForward, {{{0, 0, 0}, 0}, {{1, 0, 0}, 0}}}, {Direction::kReverse, {{{1, 0, 0}, 0}, {{1, 1, 0}, 0}}}});
   const PathPose* first = path.Poses().data();

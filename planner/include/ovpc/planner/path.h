@@ -8,6 +8,9 @@
 
 namespace ovpc::planner {
 
+/// Distance from p to the segment [a, b] in the plane.
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
 /// Yaw wrapped to [-pi, pi). OMPL's SO(2) bounds exclude +pi, so every yaw handed to OMPL and every
 /// yaw the planner returns goes through this.
 double NormalizeYaw(double yaw_rad);
@@ -63,5 +66,8 @@ class Path {
   std::vector<PathSegment> segments_;
   std::vector<PathPose> poses_;  ///< the segments' poses, cusps once
 };
+
+/// Horizontal distance from p to the polyline through the path's poses; +inf for an empty path.
+double DistanceToPolyline(const Path& path, const Eigen::Vector2d& p);
 
 }  // namespace ovpc::planner
