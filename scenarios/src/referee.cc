@@ -135,8 +135,15 @@ void Referee::Score(RunResult* result) const {
   };
   if (c.goal_m) {
     const double d = (Eigen::Vector2d(last_position_.head<2>()) - *c.goal_m).norm();
+    // At the goal's place but not there along the route (it skipped legs): say so, not just "0 m away".
+    std::string actual = "no, " + Fixed(d, 1) + " m away";
+    if (goal_time_s_) {
+      actual = "at t=" + Fixed(*goal_time_s_, 1) + " s";
+    } else if (d <= c.goal_radius_m) {
+      actual += ", but it followed the route only " + Fixed(best_progress_m_, 1) + " of the goal's " + Fixed(goal_progress_m_, 1) + " m";
+    }
     add("goal_reached", "within " + Fixed(c.goal_radius_m, 1) + " m of (" + Fixed(c.goal_m->x(), 1) + ", " + Fixed(c.goal_m->y(), 1) + ")",
-        goal_time_s_ ? "at t=" + Fixed(*goal_time_s_, 1) + " s" : "no, " + Fixed(d, 1) + " m away", goal_time_s_.has_value());
+        actual, goal_time_s_.has_value());
   }
   if (c.no_collision) {
     add("no_collision", "0 body contacts", collision_steps_ == 0 ? "none" : collisions_.front(), collision_steps_ == 0);

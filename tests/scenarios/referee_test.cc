@@ -105,6 +105,13 @@ TEST(RefereeTest, ALapsGoalAtItsStartCountsOnlyAfterTheLap) {
   Referee referee(s, gator, At(0.0, 0.0, 0.0));
   double t = 0.0;
   EXPECT_FALSE(referee.GoalReached(t, At(0.0, 0.0, 0.0))) << "at the start, before the lap";
+  {
+    RunResult before;
+    referee.Score(&before);
+    ASSERT_FALSE(before.criteria.empty());
+    EXPECT_EQ(before.criteria.front().actual, "no, 0.0 m away, but it followed the route only 0.0 of the goal's 40.0 m")
+        << "at the goal's place but not along the route: the score says why";
+  }
   const auto drive = [&](Eigen::Vector2d a, Eigen::Vector2d b, double yaw) {
     bool reached = false;
     for (int i = 1; i <= 100; ++i) {
