@@ -222,14 +222,22 @@ bool Navigator::CycleRunning() const { return job_ && job_->on_worker && worker_
 bool Navigator::Update(double time_s, const Eigen::Isometry3d& T_O_B) {
   const Eigen::Vector2d here = T_O_B.translation().head<2>();
   if (tracker_) progress_m_ = tracker_->Update(here);
-  // The vehicle is at most its straight-line distance short of the goal it drives to: a vehicle
-  // cutting a sharp corner (as a local goal across it invites) is far from the route, and the
-  // nearest route point inside the window stays on the leg it left, which held the goal back at
-  // the next corner (the corners family: rocking there until the time ran out).
+  // The vehicle is at most its straight-line distance short of the goal it drives to. That bound
+  // is taken where the tracker falls behind: off the route (a vehicle cutting a sharp corner, as a
+  // local goal across it invites, is far from the route, and the nearest route point inside the
+  // window stays on the leg it left: the goal was held back at the next corner and the vehicle
+  // rocked there until the time ran out, in the corners family), and once it reaches its goal
+  // (within replan.goal_too_close_m: at a hairpin's way back it is as near to the way out). On the
+  // route and short of its goal the vehicle is where the tracker puts it: on the way out to a
+  // hairpin, the bound put it metres ahead of itself, and from there the route's way back passed
+  // for a corner cut short (the vehicle took it at once and skipped the hairpin).
   if (const auto& goal = state_.last_goal_O) {
     const double to_goal = (here - Eigen::Vector2d(goal->pose.x_m, goal->pose.y_m)).norm();
-    progress_m_ = std::max(progress_m_, goal->route_progress_m - to_goal);
-    if (tracker_) tracker_->Advance(progress_m_);
+    const bool off_route = !tracker_ || (tracker_->PointAt(progress_m_) - here).norm() > config_.progress.on_route_m;
+    if (off_route || to_goal <= config_.replan.goal_too_close_m) {
+      progress_m_ = std::max(progress_m_, goal->route_progress_m - to_goal);
+      if (tracker_) tracker_->Advance(progress_m_);
+    }
   }
   bool took_effect = false;
   if (job_ && time_s + 1e-9 >= job_->effect_s) {

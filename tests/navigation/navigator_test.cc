@@ -2,6 +2,7 @@
 // maps, plans and drives; the seams take a user's map backend, planner and follower.
 #include "ovpc/navigation/navigator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "ovpc/planner/local_goal.h"
+#include "ovpc/planner/path.h"
 #include "ovpc/synth/synthetic_scene.h"
 #include "../support/test_navigation.h"
 
@@ -469,24 +471,68 @@ TEST(NavigatorTest, WithALatencyThePathStartsWhereTheVehicleWillBe) {
   }
 }
 
-// A route that turns back sharply (the corners family): a vehicle driving across the corner towards
-// a goal on the next leg is far from the route, and the nearest route point inside the tracking
-// window stays on the first leg. Its progress is that of its goal less the distance to it.
-TEST(NavigatorTest, ProgressFollowsTheGoalWhenTheVehicleCutsASharpCorner) {
+// A route that turns back sharply (the corners family). A vehicle driving across the corner towards
+// a goal on a later leg is far from the route, and the nearest route point inside the tracking
+// window stays on the first leg: its progress is that of its goal less the distance to it. So it is
+// once it reaches its goal (within replan.goal_too_close_m), though the way out beside the goal is
+// as near. A vehicle on the first leg and short of its goal is where the route tracker puts it: the
+// goal's progress less the distance would put it metres ahead of itself, and the next goal could
+// then be on the way back.
+TEST(NavigatorTest, ProgressFollowsTheGoalOnlyOffTheRouteOrAtTheGoal) {
   const std::vector<Eigen::Vector2d> route = {{0.0, 0.0}, {12.0, 0.0}, {3.1, 8.1}, {4.3, 20.0}};
-  Navigator nav(FlatConfig(), route);
-  FirstCycle(&nav, FlatGroundScans(1));
-  ASSERT_TRUE(nav.goal_O().has_value());
-  const double goal_progress = nav.plan_log().back().goal_progress_m;
-  ASSERT_GT(goal_progress, 14.0) << "the goal lies past the first corner";
-  // Half way from the start to the goal, straight across the corner (no map cycle is due).
-  Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
-  T_O_B.translation().head<2>() = 0.5 * *nav.goal_O();
-  EXPECT_FALSE(nav.Update(0.3, T_O_B));
-  const double to_goal = (0.5 * *nav.goal_O()).norm();
-  EXPECT_NEAR(nav.route_progress_m(), goal_progress - to_goal, 1e-9);
-  EXPECT_GT(nav.route_progress_m(), planner::RouteProgress(route, T_O_B.translation().head<2>(), 0.0, 5.0, 10.0) + 3.0)
-      << "the nearest route point in the window is on the first leg";
+  const std::vector<Eigen::Vector2d> mirrored = {{0.0, 0.0}, {12.0, 0.0}, {3.1, -8.1}, {4.3, -20.0}};
+  const auto to_route = [&](const Eigen::Vector2d& p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i + 1 < route.size(); ++i) d = std::min(d, planner::DistanceToSegment(p, route[i], route[i + 1]));
+    return d;
+  };
+  const auto at = [](const Eigen::Vector2d& p) {
+    Eigen::Isometry3d T_O_B = Eigen::Isometry3d::Identity();
+    T_O_B.translation().head<2>() = p;
+    return T_O_B;
+  };
+  {
+    const Navigator::Config config = FlatConfig();
+    Navigator nav(config, route);
+    FirstCycle(&nav, FlatGroundScans(1));
+    ASSERT_TRUE(nav.goal_O().has_value());
+    const Eigen::Vector2d goal = *nav.goal_O();
+    const double goal_progress = nav.plan_log().back().goal_progress_m;
+    ASSERT_GT(goal_progress, 14.0) << "the goal lies past the first corner";
+    // On the first leg, 0.3 m beside it (no map cycle is due).
+    const Eigen::Vector2d on_leg(4.0, 0.3);
+    EXPECT_FALSE(nav.Update(0.25, at(on_leg)));
+    EXPECT_NEAR(nav.route_progress_m(), on_leg.x(), 1e-6) << "where the route tracker puts it";
+    EXPECT_GT(goal_progress - (goal - on_leg).norm(), nav.route_progress_m() + 2.0) << "the goal's bound is metres ahead";
+    // Across the corner, towards the goal.
+    const Eigen::Vector2d across = 0.5 * goal;
+    ASSERT_GT(to_route(across), config.progress.on_route_m) << "off the route";
+    EXPECT_FALSE(nav.Update(0.3, at(across)));
+    EXPECT_NEAR(nav.route_progress_m(), goal_progress - (goal - across).norm(), 1e-9);
+    EXPECT_GT(nav.route_progress_m(), planner::RouteProgress(route, across, 0.0, 5.0, 10.0) + 1.0)
+        << "the nearest route point in the window is on the first leg";
+  }
+  {
+    // A goal just past the hairpin (turning away from the post at (9, 3)), reached from the way out
+    // beside it.
+    Navigator::Config config = FlatConfig();
+    config.local_goal.max_ahead_m = 14.5;
+    config.path_choice.direct_heading_turn_deg = 90.0;
+    Navigator nav(config, mirrored);
+    FirstCycle(&nav, FlatGroundScans(1));
+    ASSERT_TRUE(nav.goal_O().has_value());
+    const Eigen::Vector2d goal = *nav.goal_O();
+    const double goal_progress = nav.plan_log().back().goal_progress_m;
+    ASSERT_GT(goal_progress, 12.5) << "the goal lies on the way back";
+    const Eigen::Vector2d beside(goal.x(), -0.3);
+    ASSERT_LT(planner::DistanceToSegment(beside, mirrored[0], mirrored[1]), config.progress.on_route_m);
+    ASSERT_LT((goal - beside).norm(), config.replan.goal_too_close_m);
+    EXPECT_FALSE(nav.Update(0.25, at(Eigen::Vector2d(0.5 * goal.x(), -0.3))));
+    EXPECT_NEAR(nav.route_progress_m(), 0.5 * goal.x(), 1e-6) << "short of its goal";
+    EXPECT_FALSE(nav.Update(0.3, at(beside)));
+    EXPECT_NEAR(nav.route_progress_m(), goal_progress - (goal - beside).norm(), 1e-9) << "at its goal";
+    EXPECT_GT(nav.route_progress_m(), beside.x() + 1.0) << "past the tracker's place on the way out";
+  }
 }
 
 TEST(NavigatorTest, GeometryIsDerivedFromTheVehicleModel) {
