@@ -27,6 +27,7 @@ struct TraversabilityCloud::Data {
   Points points;
   std::vector<Vec3> normals;
   std::vector<std::uint8_t> traversable;
+  std::vector<std::uint8_t> foot;  // one per point, or empty (a cloud built from flags alone: no feet)
   Adaptor adaptor{&points};
   std::unique_ptr<Tree> tree;
 };
@@ -55,6 +56,8 @@ std::size_t TraversabilityCloud::size() const { return data_->points.size(); }
 const Points& TraversabilityCloud::points() const { return data_->points; }
 const std::vector<Vec3>& TraversabilityCloud::normals() const { return data_->normals; }
 const std::vector<std::uint8_t>& TraversabilityCloud::traversable() const { return data_->traversable; }
+
+bool TraversabilityCloud::IsFoot(std::size_t i) const { return i < data_->foot.size() && data_->foot[i] != 0; }
 
 std::optional<TraversabilityCloud::Neighbor> TraversabilityCloud::Nearest(const Vec3& query) const {
   if (!data_->tree || !query.allFinite()) return std::nullopt;
@@ -164,6 +167,44 @@ Vec3 PatchNormal(const Points& points, const Vec3& p, const Vec3& own, const Vec
   return side < 0.0 ? Vec3(-fitted) : fitted;
 }
 
+// Feet: non-traversable points each of whose non-traversable faces has another vertex more than
+// kFootToleranceM above the point and within kFootReachM of it in the plane, and none that far
+// below it: every steep face at such a point rises from it, close by (the foot of a wall, a post or
+// a steep ramp). A lip is not a foot: its steep faces fall away from it. Nor is the rim of what
+// was seen (a face to the viewpoint closes the hull there, over unseen space), nor a point with no
+// observed face or whose faces' normal points down.
+void MarkFeet(const FreeSpaceMesh& mesh, const std::vector<std::uint8_t>& traversable, const std::vector<Vec3>& normals,
+              std::vector<std::uint8_t>* foot) {
+  // The ground's range noise within one face (a few centimetres on the project's sensor).
+  constexpr double kFootToleranceM = 0.05;
+  // How far from the point, in the plane, the face rises to: at a wall's foot a few decimetres, and
+  // from ground seen beside a wall's end, through a gap, up to its top edge 1-2 m (a 1.4 m wall, a
+  // 2.2 m gap: VertexCloudMapTest.AWallsFootCarriesAWheelThroughAGap). A face from ground seen past
+  // a 2 m post up to its top spans 2.2 m and more; its ground keeps its flag, since the face's tilt
+  // spoils that ground's normal and poses there tilt (NavigatorTest.OneCycleMapsPlansAheadAndSetsOff
+  // chose such a place as its goal and found no path to it).
+  constexpr double kFootReachM = 2.0;
+  const std::size_t n = traversable.size();
+  foot->assign(n, 1);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    if (mesh.face_traversable[f]) continue;
+    const auto& t = mesh.triangles[f];
+    const bool closing = mesh.TouchesViewpoint(f);  // closes the hull over what was not seen
+    for (int v : t) {
+      if (v == mesh.viewpoint_vertex) continue;
+      bool rises = false, falls = false;
+      for (int w : t) {
+        if (w == v || w == mesh.viewpoint_vertex) continue;
+        const Vec3 d = mesh.vertices[w] - mesh.vertices[v];
+        rises |= d.z() > kFootToleranceM && d.head<2>().norm() <= kFootReachM;
+        falls |= d.z() < -kFootToleranceM;
+      }
+      if (closing || falls || !rises) (*foot)[v] = 0;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) (*foot)[i] = (*foot)[i] && !traversable[i] && normals[i].z() > 0.0;
+}
+
 }  // namespace
 
 TraversabilityCloud BuildTraversabilityCloud(const FreeSpaceMesh& mesh, const VertexNormals::Config& config) {
@@ -192,6 +233,7 @@ TraversabilityCloud BuildTraversabilityCloud(const FreeSpaceMesh& mesh, const Ve
     normals[i] = norm > 0.0 ? Vec3(normals[i] / norm) : Vec3::Zero();
     if (!has_face[i] || norm == 0.0) traversable[i] = 0;
   }
+  MarkFeet(mesh, traversable, normals, &data->foot);
   data->points.assign(mesh.vertices.begin(), mesh.vertices.begin() + static_cast<std::ptrdiff_t>(n));
   data->adaptor.points = &data->points;
   if (n == 0) return TraversabilityCloud(std::move(data));

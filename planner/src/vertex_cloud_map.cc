@@ -321,7 +321,7 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
         // below its lip) carries no wheel.
         const auto nearest = cloud_.Nearest(contact);
         if (nearest && nearest->distance_m <= vehicle.WheelSupportAt(contact.head<2>().norm()) &&
-            !cloud_.traversable()[nearest->index]) {
+            !CarriesWheel(nearest->index)) {
           return PoseCheck::kGroundUnderFootprint;
         }
         if (vehicle.crest_margin_m >= 0.0 && OverUnseenDrop(ground, contact, vehicle)) return PoseCheck::kCrest;
@@ -336,7 +336,7 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
           return PoseCheck::kUnseenGround;
         }
       } else {
-        if (!cloud_.traversable()[nearest->index]) return PoseCheck::kGroundUnderFootprint;
+        if (!CarriesWheel(nearest->index)) return PoseCheck::kGroundUnderFootprint;
         if (nearest->distance_m > vehicle.edge_tolerance_m && !SeenBeyond(contact, vehicle.wheel_support_m)) {
           return PoseCheck::kUnseenGround;
         }
@@ -345,6 +345,13 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
     }
   }
   return PoseCheck::kValid;
+}
+
+bool VertexCloudMap::CarriesWheel(int index) const {
+  // A foot (a wall's, a steep ramp's) carries a wheel: what rises from it is the box test's, above
+  // the ground clearance. A lip does not.
+  const auto i = static_cast<std::size_t>(index);
+  return cloud_.traversable()[i] || cloud_.IsFoot(i);
 }
 
 bool VertexCloudMap::SeenBeyond(const Vec3& contact, double radius_m) const {

@@ -551,6 +551,41 @@ TEST(VertexCloudMapTest, WheelPlacementStillStopsAtASteepRampAndAStep) {
   EXPECT_EQ(CheckPose(*step.map, wheels, Pose2{-2.1, 0.0, 0.0}), PoseCheck::kCollision);  // nose at the wall
 }
 
+// A wall across the way (posts 0.2 m apart, 1.4 m high; ground points 0.25 m apart, the robot's
+// GHPR kernel) with a gap of 2.2 m, driven through straight on its axis: the box (1.7 m) clears the wall's ends by 0.25 m, and each wheel passes 0.5 m from
+// them. The ground at the wall's foot is non-traversable (its faces climb the wall), but it is a
+// foot: the wall rises from it, and the box test answers for the wall. So every pose on the way is
+// valid; a lip (the ditch and crest tests above) still carries no wheel.
+TEST(VertexCloudMapTest, AWallsFootCarriesAWheelThroughAGap) {
+  testing::SceneSpec spec;
+  spec.spacing_m = 0.25;
+  spec.gamma = -0.03;
+  spec.ground = testing::Rect{-6.0, 8.0, -5.0, 5.0};
+  for (double y = 1.22; y <= 5.0; y += 0.2) {
+    for (double side : {-1.0, 1.0}) spec.posts.push_back(testing::Post{2.0, side * y, 0.12, 1.4});
+  }
+  spec.viewpoint_x = -4.0;
+  const PlanningScene scene = BuildScene(spec);
+  VehicleBox wheels;
+  wheels.footprint_check = VehicleBox::FootprintCheck::kWheels;
+  wheels.placement = VehicleBox::Placement::kWheelContacts;
+  int feet_near_the_wall = 0;
+  const TraversabilityCloud& cloud = scene.map->cloud();
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p = cloud.points()[i];
+    feet_near_the_wall += cloud.IsFoot(i) && std::abs(p.x() - 2.0) < 0.4 && std::abs(p.z()) < 0.05;
+  }
+  EXPECT_GE(feet_near_the_wall, 8);
+  // From 3 m before the wall until the rear wheels reach it (the ground farther on is in the wall's
+  // shadow). Without feet every pose from the front wheels 0.6 m before the wall on failed as
+  // ground under the footprint.
+  for (double x = -3.0; x <= 1.8; x += 0.1) {
+    EXPECT_EQ(CheckPose(*scene.map, wheels, Pose2{x, 0.0, 0.0}), PoseCheck::kValid) << "rear axle at x = " << x;
+  }
+  // Beside the gap's axis by 0.4 m the box meets the wall.
+  EXPECT_EQ(CheckPose(*scene.map, wheels, Pose2{1.0, 0.4, 0.0}), PoseCheck::kCollision);
+}
+
 // On a 20 deg ramp the vehicle rolls by atan(tan 20 deg * sin(heading off the fall line)): with
 // max_roll_deg 8, straight up and 15 deg off it pass (5.4 deg of roll), 45 deg off it (14.4 deg) does
 // not, whichever placement; without the limit (90, the default) every heading passes.

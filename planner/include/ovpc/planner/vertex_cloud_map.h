@@ -125,6 +125,9 @@ class VertexCloudMap final : public PlanningMap {
   // A traversable visible point within `radius_m` of `contact` at least as far from the viewpoint
   // (in the plane) as the contact (VehicleBox::edge_tolerance_m).
   bool SeenBeyond(const Vec3& contact, double radius_m) const;
+  // Visible point `index` carries a wheel that stands on it: traversable, or a foot
+  // (TraversabilityCloud::IsFoot).
+  bool CarriesWheel(int index) const;
   // The crest test (VehicleBox::crest_margin_m) for one wheel's contact on the ground of `ground`:
   // true if a ray went under the place beyond the wheel and no seen ground carries it.
   bool OverUnseenDrop(const GroundPose& ground, const Vec3& contact, const VehicleBox& vehicle) const;
