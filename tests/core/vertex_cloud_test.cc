@@ -124,29 +124,30 @@ TEST(VertexCloudTest, NormalIsTheMeanOfAdjacentFacesAndFlagNeedsAllFaces) {
   EXPECT_EQ(cloud.traversable()[1], 0);
 }
 
-// A foot is a non-traversable point whose steep faces all rise from it (a wall's foot, ground seen
-// past an obstacle's top); a lip, whose steep face falls away from it, is not one, nor is the wall's
-// point above the foot, nor a point with no face.
+// A foot is a non-traversable point whose steep faces all rise from it, higher than a step and close
+// by (a wall's foot); a lip, whose steep face falls away from it, is not one, nor is the wall's point
+// above the foot, a point with no face, ground far past a post, or a steep ramp's foot.
 TEST(VertexCloudTest, FeetAreWhereSteepFacesRiseNotWhereTheyFall) {
   FreeSpaceMesh mesh;
   // 0-1: ground at a wall's foot, 2: on the wall 1 m up, 3: ground before it (a flat face with 0-1);
   // 4-5: a lip at z = 0, 6: the bottom of a drop 1 m below it (a steep face falling from 4-5), 7: a
   // point with no face; 8-9: ground 3 m past the top of a 2 m post at 10 (a face across its shadow);
-  // 11: the viewpoint.
+  // 11-12: the foot of a 45 deg ramp whose next point 13 is 0.1 m higher (no step); 14: the viewpoint.
   mesh.vertices = {Vec3(0, 0, 0),  Vec3(0, 1, 0),  Vec3(0.3, 0.5, 1.0), Vec3(-1, 0.5, 0.02), Vec3(5, 0, 0),
                    Vec3(5, 1, 0),  Vec3(5.3, 0.5, -1.0), Vec3(9, 9, 0),  Vec3(3, 5, 0),      Vec3(3, 6, 0),
-                   Vec3(0, 5.5, 2.0), Vec3(-3, 0, 1.88)};
-  mesh.source_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, -1};
-  mesh.viewpoint_vertex = 11;
+                   Vec3(0, 5.5, 2.0), Vec3(6, 6, 0), Vec3(6, 7, 0), Vec3(6.1, 6.5, 0.1), Vec3(-3, 0, 1.88)};
+  mesh.source_index = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, -1};
+  mesh.viewpoint_vertex = 14;
   // Normals towards free space.
-  mesh.triangles = {{1, 0, 2}, {0, 1, 3}, {5, 4, 6}, {4, 5, 3}, {8, 9, 10}};
+  mesh.triangles = {{1, 0, 2}, {0, 1, 3}, {5, 4, 6}, {4, 5, 3}, {8, 9, 10}, {12, 11, 13}};
   ClassifyFaces(Traversability::Config{}, &mesh);
   ASSERT_EQ(mesh.face_traversable[0], 0);
   ASSERT_EQ(mesh.face_traversable[1], 1);
   ASSERT_EQ(mesh.face_traversable[2], 0);
   ASSERT_EQ(mesh.face_traversable[4], 0);
+  ASSERT_EQ(mesh.face_traversable[5], 0);
   const TraversabilityCloud cloud = BuildTraversabilityCloud(mesh);
-  ASSERT_EQ(cloud.size(), 11u);
+  ASSERT_EQ(cloud.size(), 14u);
   for (int i : {0, 1, 4, 5}) EXPECT_EQ(cloud.traversable()[i], 0) << i;
   EXPECT_TRUE(cloud.IsFoot(0));
   EXPECT_TRUE(cloud.IsFoot(1));
@@ -159,6 +160,9 @@ TEST(VertexCloudTest, FeetAreWhereSteepFacesRiseNotWhereTheyFall) {
   EXPECT_EQ(cloud.traversable()[8], 0);
   EXPECT_FALSE(cloud.IsFoot(8));  // its face rises 3 m away, across a shadow
   EXPECT_FALSE(cloud.IsFoot(9));
+  EXPECT_EQ(cloud.traversable()[11], 0);
+  EXPECT_FALSE(cloud.IsFoot(11));  // the ramp rises 0.1 m from it: a slope, not an obstacle
+  EXPECT_FALSE(cloud.IsFoot(12));
   EXPECT_FALSE(cloud.IsFoot(100));
   // A cloud made from flags alone knows no feet.
   const TraversabilityCloud flags(cloud.points(), cloud.normals(), cloud.traversable());

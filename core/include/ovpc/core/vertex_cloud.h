@@ -64,10 +64,11 @@ class TraversabilityCloud {
   const std::vector<Vec3>& normals() const;
   const std::vector<std::uint8_t>& traversable() const;
   /// Whether point i is a foot: non-traversable, and each of its non-traversable faces rises from it
-  /// close by (another vertex of the face lies more than 5 cm above it and within 2 m of it in the
-  /// plane, none more than 5 cm below it): the foot of a wall, a post or a steep ramp. A lip, whose
-  /// steep faces fall away, is not, nor the rim of what was seen (a point with a face to the
-  /// viewpoint that is not traversable), nor ground seen far past an obstacle, whose face reaches
+  /// close by, higher than a step (another vertex of the face lies more than 0.25 m above it and
+  /// within 2 m of it in the plane, none more than 5 cm below it): the foot of a wall or a post. A
+  /// lip, whose steep faces fall away, is not, nor the foot of a steep ramp (its faces rise a few
+  /// centimetres to the ramp's next points), nor the rim of what was seen (a point with a face to
+  /// the viewpoint that is not traversable), nor ground far past an obstacle, whose face reaches
   /// metres up to the obstacle's top. Always false for a cloud made from flags alone (the
   /// three-vector constructor) and for i out of range.
   bool IsFoot(std::size_t i) const;
