@@ -348,8 +348,8 @@ PoseCheck VertexCloudMap::CheckBox(const GroundPose& ground, const VehicleBox& v
 }
 
 bool VertexCloudMap::CarriesWheel(int index) const {
-  // A foot (a wall's, a steep ramp's) carries a wheel: what rises from it is the box test's, above
-  // the ground clearance. A lip does not.
+  // A foot (a wall's, a post's) carries a wheel: what rises from it is the box test's, above the
+  // ground clearance. A lip does not, nor a steep ramp's foot (not a foot: TraversabilityCloud::IsFoot).
   const auto i = static_cast<std::size_t>(index);
   return cloud_.traversable()[i] || cloud_.IsFoot(i);
 }
